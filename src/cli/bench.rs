@@ -1,0 +1,100 @@
+//! `eapbd bench`: time per frame of the CPU solver and the cost of mesh coloring.
+
+use std::time::Instant;
+
+use clap::Args;
+use eapbd::coloring;
+use eapbd::constraints::Form;
+use eapbd::mesh::{grid, unique_edges};
+use eapbd::scene::{self, SceneOptions};
+use eapbd::solver::{CpuSolver, Method, Settings};
+use glam::Vec3;
+use rand::{Rng, SeedableRng};
+
+/// Arguments of `eapbd bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// A short run of a few seconds (fewer frames and repetitions).
+    #[arg(long)]
+    pub quick: bool,
+}
+
+/// Runs the command.
+pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
+    let (warm, frames, reps) = if a.quick { (10, 40, 1) } else { (30, 300, 5) };
+    println!("CPU solver, single thread, f32 (median of {frames} frames after {warm} warm-up frames)");
+    println!("| scene | solver | form | iterations x substeps | constraints | colors | ms/frame | projections/s |");
+    println!("|---|---|---|---|---|---|---|---|");
+    let cases = [
+        (Method::GaussSeidel, Form::Compliant),
+        (Method::GaussSeidel, Form::Energy),
+        (Method::Jacobi, Form::Compliant),
+    ];
+    for (method, form) in cases {
+        let scene = scene::build("cloth-paper", &SceneOptions::default())?;
+        let colors = scene.springs.as_ref().map_or(0, |f| f.stats.colors);
+        let n = scene.num_constraints();
+        let settings = Settings { iterations: 30, substeps: 1, method, form, ..Settings::default() };
+        let ms = median_frame_ms(CpuSolver::<Vec3>::new(scene), &settings, warm, frames);
+        let proj = (n as f64 * 30.0) / (ms * 1e-3);
+        println!(
+            "| cloth-paper | {} | {} | 30 x 1 | {n} | {colors} | {ms:.3} | {:.1} M |",
+            method.name(),
+            form.name(),
+            proj / 1e6
+        );
+    }
+    println!();
+    println!("Mesh coloring (best of {reps})");
+    println!("| elements | particles | colors | group sizes | ms |");
+    println!("|---|---|---|---|---|");
+    let cloth = grid(578, 1.0, 0.0);
+    let edges = unique_edges(&cloth.triangles);
+    coloring_case("cloth grid edges", cloth.positions.len(), &edges, reps);
+    let mut rng = rand::rngs::SmallRng::seed_from_u64(7);
+    let np = 200_000u32;
+    let random: Vec<[u32; 2]> = (0..1_000_000)
+        .map(|_| {
+            let a = rng.random_range(0..np);
+            let b = (a + rng.random_range(1..np)) % np;
+            [a, b]
+        })
+        .collect();
+    coloring_case("random graph", np as usize, &random, reps);
+    Ok(())
+}
+
+fn median_frame_ms(mut solver: CpuSolver<Vec3>, s: &Settings, warm: u32, frames: u32) -> f64 {
+    for _ in 0..warm {
+        solver.step_frame(s);
+    }
+    let mut t: Vec<f64> = (0..frames)
+        .map(|_| {
+            let t0 = Instant::now();
+            solver.step_frame(s);
+            t0.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[t.len() / 2]
+}
+
+fn coloring_case(name: &str, particles: usize, elements: &[[u32; 2]], reps: u32) {
+    let mut best = f64::INFINITY;
+    let mut stats = None;
+    for _ in 0..reps {
+        let t0 = Instant::now();
+        let c = coloring::color(particles, elements);
+        best = best.min(t0.elapsed().as_secs_f64() * 1e3);
+        stats = Some(c.stats());
+    }
+    if let Some(s) = stats {
+        println!(
+            "| {} {name} | {particles} | {} | {}..{} | {best:.1} |",
+            elements.len(),
+            s.colors,
+            s.min_group,
+            s.max_group
+        );
+    }
+}

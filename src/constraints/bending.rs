@@ -1,0 +1,123 @@
+//! Dihedral bending between two triangles sharing an edge (Müller et al. 2007, with the signed
+//! angle of Bridson et al. 2003 so the gradient is defined at the flat rest state).
+//!
+//! Particles `[x₀, x₁, x₂, x₃]`: the shared edge is `x₀ → x₁`, `x₂` is the wing of triangle
+//! `(x₀, x₁, x₂)` and `x₃` the wing of triangle `(x₁, x₀, x₃)` (both consistently oriented).
+//! With `e = x₁ − x₀`, `n₁ = e × (x₂ − x₀)`, `n₂ = (x₃ − x₀) × e`:
+//!
+//! `θ = atan2((n₁ × n₂)·ê, n₁·n₂)` (0 when flat), `E = ½ k_b (θ − θ₀)²` with `k_b` in N·m/rad.
+//!
+//! Gradient of θ: `∇x₂ θ = −|e| n₁/|n₁|²`, `∇x₃ θ = −|e| n₂/|n₂|²`, and with the wings' positions
+//! along the edge `tᵢ = (xᵢ − x₀)·e/|e|²`: `∇x₀ θ = −(1 − t₂)∇x₂ θ − (1 − t₃)∇x₃ θ`,
+//! `∇x₁ θ = −t₂ ∇x₂ θ − t₃ ∇x₃ θ`. Compliant form: `C = θ − θ₀`, `α = 1/k_b`.
+//! A degenerate triangle or edge gives a zero gradient (skipped for that iteration).
+
+use bytemuck::{Pod, Zeroable};
+
+use super::spring::tiny;
+use super::{Element, Projection};
+use crate::math::prelude::*;
+
+/// Parameters shared by all bending elements (none yet: stiffness is per element).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct BendParams;
+
+/// One bending element. Keep in sync with `Bend` in the WGSL sources.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
+pub struct Bend {
+    /// `[x₀, x₁, x₂, x₃]`: shared edge, then the two wings.
+    pub p: [u32; 4],
+    /// Rest dihedral angle `θ₀` in radians.
+    pub rest_angle: f32,
+    /// Bending stiffness `k_b` in N·m/rad.
+    pub k: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<Bend>() == 24);
+
+/// The signed dihedral angle and its gradient (zero gradient when degenerate).
+#[inline(always)]
+pub fn dihedral<V: Vector>(x: &[V; 4]) -> (V::S, [V; 4]) {
+    let e = x[1] - x[0];
+    let n1 = e.cross(x[2] - x[0]);
+    let n2 = (x[3] - x[0]).cross(e);
+    let e2 = e.length_squared();
+    let (n1s, n2s) = (n1.length_squared(), n2.length_squared());
+    let el = e2.sqrt();
+    let small = tiny::<V::S>();
+    if e2 <= small || n1s <= small * e2 || n2s <= small * e2 {
+        let theta = if e2 <= small { V::S::zero() } else { angle(n1, n2, e * (V::S::one() / el)) };
+        return (theta, [V::ZERO; 4]);
+    }
+    let theta = angle(n1, n2, e * (V::S::one() / el));
+    let g2 = n1 * (-el / n1s);
+    let g3 = n2 * (-el / n2s);
+    let t2 = (x[2] - x[0]).dot(e) / e2;
+    let t3 = (x[3] - x[0]).dot(e) / e2;
+    let one = V::S::one();
+    let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
+    let g1 = -(g2 * t2) - g3 * t3;
+    (theta, [g0, g1, g2, g3])
+}
+
+#[inline(always)]
+fn angle<V: Vector>(n1: V, n2: V, e_hat: V) -> V::S {
+    n1.cross(n2).dot(e_hat).atan2(n1.dot(n2))
+}
+
+/// `θ − θ₀` wrapped into `(−π, π]`.
+#[inline(always)]
+fn wrapped<S: Real>(theta: S, rest: S) -> S {
+    let pi: S = c(std::f64::consts::PI);
+    let two_pi = pi + pi;
+    let mut d = theta - rest;
+    if d > pi {
+        d -= two_pi;
+    } else if d <= -pi {
+        d += two_pi;
+    }
+    d
+}
+
+impl Bend {
+    /// A bending element with its rest angle measured from `x` (rest positions).
+    pub fn at_rest(p: [u32; 4], x: &[glam::Vec3], k: f32) -> Self {
+        let xs = p.map(|i| x[i as usize]);
+        let (theta, _) = dihedral(&xs);
+        Bend { p, rest_angle: theta, k }
+    }
+}
+
+impl Element<4> for Bend {
+    type Params = BendParams;
+
+    #[inline(always)]
+    fn particles(&self) -> [u32; 4] {
+        self.p
+    }
+
+    #[inline(always)]
+    fn energy<V: Vector>(&self, _: &BendParams, x: &[V; 4]) -> V::S {
+        let (theta, _) = dihedral(x);
+        let d = wrapped(theta, self.rest_angle.into());
+        c::<V::S>(0.5) * <V::S as From<f32>>::from(self.k) * d * d
+    }
+
+    #[inline(always)]
+    fn energy_gradient<V: Vector>(&self, _: &BendParams, x: &[V; 4]) -> [V; 4] {
+        let (theta, g) = dihedral(x);
+        let s = <V::S as From<f32>>::from(self.k) * wrapped(theta, self.rest_angle.into());
+        g.map(|gi| gi * s)
+    }
+
+    #[inline(always)]
+    fn compliant<V: Vector>(&self, _: &BendParams, x: &[V; 4]) -> Projection<V, 4> {
+        let (theta, grad) = dihedral(x);
+        Projection {
+            c: wrapped(theta, self.rest_angle.into()),
+            grad,
+            alpha: V::S::one() / <V::S as From<f32>>::from(self.k),
+        }
+    }
+}

@@ -1,0 +1,58 @@
+//! The library's error type.
+
+use std::path::PathBuf;
+
+/// Everything the library can report instead of panicking.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A name (scene, material, form, ...) that is not one of the allowed values.
+    #[error("unknown {what} '{given}'; allowed: {}", allowed.join(", "))]
+    UnknownName {
+        /// What kind of name it is ("scene", "material", ...).
+        what: &'static str,
+        /// The name given.
+        given: String,
+        /// The allowed names.
+        allowed: Vec<&'static str>,
+    },
+    /// A parameter outside its meaningful range.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// The parameter's name as the user sees it.
+        name: &'static str,
+        /// The offending value, formatted.
+        value: String,
+        /// What the value must satisfy.
+        reason: &'static str,
+    },
+    /// A mesh that cannot be simulated (degenerate or inconsistent).
+    #[error("invalid mesh: {0}")]
+    InvalidMesh(String),
+    /// A file could not be read or written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+}
+
+/// The library's result type.
+pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+impl Error {
+    /// Shorthand for [`Error::InvalidParameter`].
+    pub fn param(name: &'static str, value: impl std::fmt::Display, reason: &'static str) -> Self {
+        Error::InvalidParameter { name, value: value.to_string(), reason }
+    }
+
+    /// Looks `given` up among `(name, value)` pairs, or reports the allowed names.
+    pub fn lookup<T: Copy>(what: &'static str, given: &str, table: &[(&'static str, T)]) -> Result<T> {
+        table.iter().find(|(n, _)| *n == given).map(|(_, v)| *v).ok_or_else(|| Error::UnknownName {
+            what,
+            given: given.to_string(),
+            allowed: table.iter().map(|(n, _)| *n).collect(),
+        })
+    }
+}

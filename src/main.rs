@@ -1,0 +1,13 @@
+//! The `eapbd` command line: simulate scenes and benchmark the solvers.
+
+mod cli;
+
+use clap::Parser;
+
+fn main() -> anyhow::Result<()> {
+    let args = cli::Cli::parse();
+    match args.command {
+        cli::Command::Simulate(a) => cli::simulate::run(&a),
+        cli::Command::Bench(a) => cli::bench::run(&a),
+    }
+}

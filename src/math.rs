@@ -1,0 +1,141 @@
+//! Precision-generic vector math.
+//!
+//! The runtime solvers use `f32` ([`glam::Vec3`]); finite-difference tests and converged reference
+//! solves use `f64` ([`glam::DVec3`]). Constraint math and the CPU solver are written once against
+//! the [`Vector`] trait, which both glam types implement.
+
+use std::fmt::Debug;
+use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
+
+use glam::{DVec3, Vec3};
+use num_traits::Float;
+
+/// A floating-point scalar: `f32` or `f64`.
+pub trait Real:
+    num_traits::Float + From<f32> + AddAssign + SubAssign + Debug + Default + Send + Sync + 'static
+{
+    /// Widens to `f64` (for reports and accumulations).
+    fn to_f64(self) -> f64;
+    /// Narrows or keeps an `f64` constant.
+    fn from_f64(v: f64) -> Self;
+}
+
+impl Real for f32 {
+    fn to_f64(self) -> f64 {
+        self as f64
+    }
+    fn from_f64(v: f64) -> Self {
+        v as f32
+    }
+}
+
+impl Real for f64 {
+    fn to_f64(self) -> f64 {
+        self
+    }
+    fn from_f64(v: f64) -> Self {
+        v
+    }
+}
+
+/// A 3D vector over a [`Real`] scalar.
+pub trait Vector:
+    Copy
+    + Debug
+    + Default
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+    + Mul<<Self as Vector>::S, Output = Self>
+{
+    /// The scalar type.
+    type S: Real;
+    /// The zero vector.
+    const ZERO: Self;
+    /// Builds a vector from its components.
+    fn new(x: Self::S, y: Self::S, z: Self::S) -> Self;
+    /// Converts from the `f32` storage type.
+    fn from_vec3(v: Vec3) -> Self;
+    /// Converts to the `f32` storage type.
+    fn to_vec3(self) -> Vec3;
+    /// Converts to `f64`.
+    fn to_dvec3(self) -> DVec3;
+    /// Dot product.
+    fn dot(self, o: Self) -> Self::S;
+    /// Cross product.
+    fn cross(self, o: Self) -> Self;
+    /// Euclidean length.
+    fn length(self) -> Self::S {
+        self.dot(self).sqrt()
+    }
+    /// Squared length.
+    fn length_squared(self) -> Self::S {
+        self.dot(self)
+    }
+    /// Component `i` (0 = x, 1 = y, 2 = z).
+    fn get(self, i: usize) -> Self::S;
+    /// `true` when every component is finite.
+    fn is_finite(self) -> bool;
+}
+
+macro_rules! impl_vector {
+    ($v:ty, $s:ty) => {
+        impl Vector for $v {
+            type S = $s;
+            const ZERO: Self = <$v>::ZERO;
+            #[inline]
+            fn new(x: $s, y: $s, z: $s) -> Self {
+                <$v>::new(x, y, z)
+            }
+            #[inline]
+            fn from_vec3(v: Vec3) -> Self {
+                <$v>::new(v.x as $s, v.y as $s, v.z as $s)
+            }
+            #[inline]
+            fn to_vec3(self) -> Vec3 {
+                Vec3::new(self.x as f32, self.y as f32, self.z as f32)
+            }
+            #[inline]
+            fn to_dvec3(self) -> DVec3 {
+                DVec3::new(self.x as f64, self.y as f64, self.z as f64)
+            }
+            #[inline]
+            fn dot(self, o: Self) -> $s {
+                <$v>::dot(self, o)
+            }
+            #[inline]
+            fn cross(self, o: Self) -> Self {
+                <$v>::cross(self, o)
+            }
+            #[inline]
+            fn get(self, i: usize) -> $s {
+                self[i]
+            }
+            #[inline]
+            fn is_finite(self) -> bool {
+                <$v>::is_finite(self)
+            }
+        }
+    };
+}
+
+impl_vector!(Vec3, f32);
+impl_vector!(DVec3, f64);
+
+/// Shorthand for a scalar constant in any precision.
+#[inline]
+pub fn c<S: Real>(v: f64) -> S {
+    S::from_f64(v)
+}
+
+/// Traits whose methods the generic math calls (`sqrt`, `atan2`, `zero`, `one`, ...).
+pub mod prelude {
+    pub use super::{Real, Vector, c};
+    pub use num_traits::{Float, One, Zero};
+}

@@ -1,0 +1,61 @@
+//! Triangle meshes: generation, topology (edges, dihedral pairs), lumped masses, OBJ export.
+
+mod grid;
+mod obj;
+mod topology;
+
+pub use grid::grid;
+pub use obj::write_obj;
+pub use topology::{dihedral_pairs, unique_edges};
+
+use glam::Vec3;
+
+use crate::error::{Error, Result};
+
+/// A triangle mesh in metres.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriMesh {
+    /// Vertex positions (m).
+    pub positions: Vec<Vec3>,
+    /// Counter-clockwise triangles (vertex indices).
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl TriMesh {
+    /// Checks indices and rejects zero-area triangles, naming the first offender.
+    pub fn validate(&self) -> Result<()> {
+        let n = self.positions.len() as u32;
+        if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
+            return Err(Error::InvalidMesh(format!("vertex {i} is not finite")));
+        }
+        for (t, tri) in self.triangles.iter().enumerate() {
+            if let Some(&i) = tri.iter().find(|&&i| i >= n) {
+                return Err(Error::InvalidMesh(format!("triangle {t} uses vertex {i} of {n}")));
+            }
+            if self.area(t) <= 1e-12 {
+                return Err(Error::InvalidMesh(format!("triangle {t} {tri:?} has zero area")));
+            }
+        }
+        Ok(())
+    }
+
+    /// Area of triangle `t` in m².
+    pub fn area(&self, t: usize) -> f32 {
+        let [a, b, c] = self.triangles[t].map(|i| self.positions[i as usize]);
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Lumped vertex masses for a total mass (kg): each triangle gives a third of its share of
+    /// the total area to each of its corners.
+    pub fn lumped_masses(&self, total: f32) -> Vec<f32> {
+        let areas: Vec<f32> = (0..self.triangles.len()).map(|t| self.area(t)).collect();
+        let sum: f32 = areas.iter().sum();
+        let mut m = vec![0.0; self.positions.len()];
+        for (tri, a) in self.triangles.iter().zip(&areas) {
+            for &i in tri {
+                m[i as usize] += total * a / (3.0 * sum);
+            }
+        }
+        m
+    }
+}

@@ -1,0 +1,132 @@
+//! Error and energy measures (SPEC §7), accumulated in `f64`.
+
+use crate::math::prelude::*;
+use crate::scene::Scene;
+use crate::solver::CpuSolver;
+
+/// Mean and maximum relative stretch `||d| − l₀| / l₀` over `edges`, with rest lengths taken from
+/// `rest` positions.
+pub fn stretch<V: Vector>(edges: &[[u32; 2]], rest: &[glam::Vec3], x: &[V]) -> (f64, f64) {
+    let (mut sum, mut max) = (0.0f64, 0.0f64);
+    for &[a, b] in edges {
+        let (a, b) = (a as usize, b as usize);
+        let l0 = rest[a].as_dvec3().distance(rest[b].as_dvec3());
+        let l = (x[b].to_dvec3() - x[a].to_dvec3()).length();
+        let s = if l0 > 0.0 { (l - l0).abs() / l0 } else { 0.0 };
+        sum += s;
+        max = max.max(s);
+    }
+    if edges.is_empty() { (0.0, 0.0) } else { (sum / edges.len() as f64, max) }
+}
+
+/// Kinetic energy `Σ ½ m |v|²` over free particles (J).
+pub fn kinetic<V: Vector>(v: &[V], w: &[V::S]) -> f64 {
+    v.iter()
+        .zip(w)
+        .filter(|(_, w)| **w > V::S::zero())
+        .map(|(v, w)| 0.5 * v.to_dvec3().length_squared() / w.to_f64())
+        .sum()
+}
+
+/// Gravitational energy `−Σ m g·(x − x_ref)` over free particles (J), heights measured from the
+/// scene's rest centre of mass.
+pub fn gravitational<V: Vector>(scene: &Scene, x: &[V], w: &[V::S]) -> f64 {
+    let g = scene.gravity.as_dvec3();
+    let r = scene.rest_center_of_mass().as_dvec3();
+    x.iter().zip(w).filter(|(_, w)| **w > V::S::zero()).map(|(x, w)| -g.dot(x.to_dvec3() - r) / w.to_f64()).sum()
+}
+
+/// What is reported for a frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    /// Frame number (1 after the first step).
+    pub frame: u32,
+    /// Wall-clock time of the frame's solve (ms).
+    pub time_ms: f64,
+    /// RMS of `|C + α̃λ|`.
+    pub residual_rms: f64,
+    /// Maximum of `|C + α̃λ|`.
+    pub residual_max: f64,
+    /// Mean relative stretch.
+    pub stretch_mean: f64,
+    /// Maximum relative stretch.
+    pub stretch_max: f64,
+    /// Kinetic energy (J).
+    pub kinetic: f64,
+    /// Gravitational energy (J).
+    pub gravitational: f64,
+    /// Elastic (material) energy (J).
+    pub elastic: f64,
+}
+
+impl FrameStats {
+    /// Kinetic + gravitational + elastic (J).
+    pub fn total(&self) -> f64 {
+        self.kinetic + self.gravitational + self.elastic
+    }
+
+    /// `true` when every figure is finite.
+    pub fn is_finite(&self) -> bool {
+        [self.residual_rms, self.residual_max, self.stretch_mean, self.stretch_max, self.total()]
+            .iter()
+            .all(|v| v.is_finite())
+    }
+
+    /// Measures a CPU solver's current state.
+    pub fn measure<V: Vector>(solver: &CpuSolver<V>, frame: u32, time_ms: f64) -> Self {
+        let scene = solver.scene();
+        let p = &solver.particles;
+        let (residual_rms, residual_max) = solver.residual();
+        let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.positions, &p.x);
+        FrameStats {
+            frame,
+            time_ms,
+            residual_rms,
+            residual_max,
+            stretch_mean,
+            stretch_max,
+            kinetic: kinetic(&p.v, &p.w),
+            gravitational: gravitational(scene, &p.x, &p.w),
+            elastic: solver.elastic_energy(),
+        }
+    }
+
+    /// Column names of [`FrameStats::csv_row`].
+    pub const CSV_HEADER: &'static str =
+        "frame,time_ms,residual_rms,residual_max,stretch_mean,stretch_max,kinetic_j,gravitational_j,elastic_j,total_j";
+
+    /// One CSV row.
+    pub fn csv_row(&self) -> String {
+        format!(
+            "{},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+            self.frame,
+            self.time_ms,
+            self.residual_rms,
+            self.residual_max,
+            self.stretch_mean,
+            self.stretch_max,
+            self.kinetic,
+            self.gravitational,
+            self.elastic,
+            self.total()
+        )
+    }
+}
+
+impl std::fmt::Display for FrameStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "frame {:5}  {:8.3} ms  residual rms {:.3e} max {:.3e}  stretch mean {:.3e} max {:.3e}  KE {:.4e} J  GPE {:+.4e} J  elastic {:.4e} J",
+            self.frame,
+            self.time_ms,
+            self.residual_rms,
+            self.residual_max,
+            self.stretch_mean,
+            self.stretch_max,
+            self.kinetic,
+            self.gravitational,
+            self.elastic
+        )
+    }
+}

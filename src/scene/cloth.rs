@@ -1,0 +1,81 @@
+//! The cloth scenes: a 1 m, 1 kg square grid, horizontal at the start.
+
+use glam::Vec3;
+
+use super::{Family, Ground, Scene, SceneOptions, Sphere};
+use crate::constraints::{Bend, BendParams, Spring, SpringParams};
+use crate::error::Result;
+use crate::mesh::{TriMesh, dihedral_pairs, grid};
+
+/// Which cloth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Kind {
+    /// `cloth`: two corners of one edge pinned, bending on by default.
+    Hanging,
+    /// `cloth-paper`: the paper's 41×41 cloth with springs only (4880 edges).
+    Paper,
+    /// `cloth-sphere`: a free cloth dropped onto a sphere resting on the ground.
+    Sphere,
+}
+
+const SIZE: f32 = 1.0;
+const MASS: f32 = 1.0;
+const DEFAULT_RESOLUTION: u32 = 41;
+const DEFAULT_BENDING: f32 = 1.0e-3;
+
+pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
+    let n = o.resolution.unwrap_or(DEFAULT_RESOLUTION);
+    let height = match kind {
+        Kind::Sphere => 0.9,
+        _ => 1.2,
+    };
+    let mesh = grid(n, SIZE, height);
+    mesh.validate()?;
+    let mut inv_mass: Vec<f32> = mesh.lumped_masses(MASS).iter().map(|m| 1.0 / m).collect();
+    if kind != Kind::Sphere {
+        inv_mass[0] = 0.0;
+        inv_mass[n as usize - 1] = 0.0;
+    }
+    let kb = match kind {
+        Kind::Paper => o.bending_stiffness.unwrap_or(0.0),
+        _ => o.bending_stiffness.unwrap_or(DEFAULT_BENDING),
+    };
+    let np = mesh.positions.len();
+    let edges = Scene::edges_of(&mesh.triangles);
+    let springs = edges
+        .iter()
+        .map(|&[a, b]| {
+            let rest = mesh.positions[a as usize].distance(mesh.positions[b as usize]);
+            Spring::new(a, b, rest, o.stiffness, o.material)
+        })
+        .collect();
+    let springs = Some(Family::new(SpringParams { material: o.material }, springs, np));
+    let bends = (kb > 0.0).then(|| bending(&mesh, kb));
+    let spheres = match kind {
+        Kind::Sphere => vec![Sphere { center: Vec3::new(0.0, 0.3, 0.0), radius: 0.3, friction: 0.4 }],
+        _ => Vec::new(),
+    };
+    let name = match kind {
+        Kind::Hanging => "cloth",
+        Kind::Paper => "cloth-paper",
+        Kind::Sphere => "cloth-sphere",
+    };
+    Ok(Scene {
+        name: name.into(),
+        positions: mesh.positions,
+        inv_mass,
+        triangles: mesh.triangles,
+        edges,
+        springs,
+        bends,
+        ground: Some(Ground { height: 0.0, friction: 0.5 }),
+        spheres,
+        gravity: Vec3::new(0.0, -9.81, 0.0),
+        contact_offset: 0.005,
+    })
+}
+
+fn bending(mesh: &TriMesh, kb: f32) -> Family<Bend, 4> {
+    let bends = dihedral_pairs(&mesh.triangles).into_iter().map(|p| Bend::at_rest(p, &mesh.positions, kb)).collect();
+    Family::new(BendParams, bends, mesh.positions.len())
+}

@@ -1,0 +1,141 @@
+//! Scenes: particles, constraint families, colliders and gravity, built from a name and options.
+
+mod cloth;
+mod family;
+
+pub use family::Family;
+
+use glam::Vec3;
+
+use crate::constraints::{Bend, Spring, SpringMaterial};
+use crate::error::{Error, Result};
+use crate::mesh::unique_edges;
+
+/// A horizontal ground plane `y = height` with Coulomb friction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ground {
+    /// Height of the plane (m).
+    pub height: f32,
+    /// Friction coefficient μ (dimensionless).
+    pub friction: f32,
+}
+
+/// A fixed analytic sphere collider with Coulomb friction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    /// Centre (m).
+    pub center: Vec3,
+    /// Radius (m).
+    pub radius: f32,
+    /// Friction coefficient μ (dimensionless).
+    pub friction: f32,
+}
+
+/// Everything a solver needs to simulate: the initial state, the constraint families it uses
+/// (only those), the colliders and gravity. Backends never change a scene; they copy its initial
+/// state into their own buffers.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// Scene name (as on the command line).
+    pub name: String,
+    /// Initial positions (m).
+    pub positions: Vec<Vec3>,
+    /// Inverse masses (1/kg); 0 pins a particle.
+    pub inv_mass: Vec<f32>,
+    /// Surface triangles, for drawing and export.
+    pub triangles: Vec<[u32; 3]>,
+    /// Edges whose relative stretch is reported (SPEC §7).
+    pub edges: Vec<[u32; 2]>,
+    /// Spring family, if the scene has springs.
+    pub springs: Option<Family<Spring, 2>>,
+    /// Bending family, if the scene has bending.
+    pub bends: Option<Family<Bend, 4>>,
+    /// Ground plane, if any.
+    pub ground: Option<Ground>,
+    /// Sphere colliders.
+    pub spheres: Vec<Sphere>,
+    /// Gravity (m/s²).
+    pub gravity: Vec3,
+    /// Distance kept between particles and colliders (m).
+    pub contact_offset: f32,
+}
+
+/// What a user may choose about a scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneOptions {
+    /// Particles per side of a cloth; `None` takes the scene's own (41).
+    pub resolution: Option<u32>,
+    /// Small-strain spring stiffness `k_s` (N/m, SPEC §3).
+    pub stiffness: f32,
+    /// Spring energy model.
+    pub material: SpringMaterial,
+    /// Dihedral bending stiffness `k_b` (N·m/rad); `None` takes the scene's own, 0 disables.
+    pub bending_stiffness: Option<f32>,
+}
+
+impl Default for SceneOptions {
+    fn default() -> Self {
+        SceneOptions { resolution: None, stiffness: 1.0e4, material: SpringMaterial::Hookean, bending_stiffness: None }
+    }
+}
+
+/// Names of the scenes [`build`] knows.
+pub const SCENES: [&str; 3] = ["cloth", "cloth-paper", "cloth-sphere"];
+
+/// Builds the scene called `name`.
+pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
+    validate(opts)?;
+    let kind = Error::lookup(
+        "scene",
+        name,
+        &[("cloth", cloth::Kind::Hanging), ("cloth-paper", cloth::Kind::Paper), ("cloth-sphere", cloth::Kind::Sphere)],
+    )?;
+    cloth::build(kind, opts)
+}
+
+fn validate(o: &SceneOptions) -> Result<()> {
+    if let Some(n) = o.resolution
+        && !(2..=2048).contains(&n)
+    {
+        return Err(Error::param("--resolution", n, "particles per side must be in 2..=2048"));
+    }
+    if !(o.stiffness.is_finite() && o.stiffness > 0.0) {
+        return Err(Error::param("--stiffness", o.stiffness, "must be a positive finite N/m"));
+    }
+    if let Some(kb) = o.bending_stiffness
+        && !(kb.is_finite() && kb >= 0.0)
+    {
+        return Err(Error::param("--bending-stiffness", kb, "must be a finite N·m/rad ≥ 0"));
+    }
+    Ok(())
+}
+
+impl Scene {
+    /// Number of particles.
+    pub fn num_particles(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of constraints over all families.
+    pub fn num_constraints(&self) -> usize {
+        self.springs.as_ref().map_or(0, Family::len) + self.bends.as_ref().map_or(0, Family::len)
+    }
+
+    /// Stretch edges from triangles.
+    pub(crate) fn edges_of(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
+        unique_edges(triangles)
+    }
+
+    /// Centre of mass of the free particles at the start (m): heights for gravitational energy
+    /// are measured from it.
+    pub fn rest_center_of_mass(&self) -> Vec3 {
+        let (mut sum, mut mass) = (glam::DVec3::ZERO, 0.0f64);
+        for (p, &w) in self.positions.iter().zip(&self.inv_mass) {
+            if w > 0.0 {
+                sum += p.as_dvec3() / w as f64;
+                mass += 1.0 / w as f64;
+            }
+        }
+        if mass > 0.0 { (sum / mass).as_vec3() } else { Vec3::ZERO }
+    }
+}

@@ -1,0 +1,50 @@
+//! Collision projection against the ground plane and analytic spheres, with position-based
+//! Coulomb friction: a particle pushed out by depth `d` loses its tangential displacement since
+//! the start of the substep, `t`, entirely when `|t| ≤ μ d` (static), else by `μ d` (kinetic).
+
+use crate::math::prelude::*;
+use crate::scene::Scene;
+
+use super::Particles;
+
+/// Projects every free particle out of the scene's colliders.
+pub(crate) fn project_contacts<V: Vector>(scene: &Scene, p: &mut Particles<V>) {
+    let offset: V::S = scene.contact_offset.into();
+    let zero = V::S::zero();
+    for i in 0..p.len() {
+        if p.w[i] <= zero {
+            continue;
+        }
+        let mut x = p.x[i];
+        if let Some(g) = scene.ground {
+            let floor = <V::S as From<f32>>::from(g.height) + offset;
+            let y = x.get(1);
+            if y < floor {
+                let n = V::new(zero, V::S::one(), zero);
+                x += n * (floor - y);
+                x = friction(x, p.x_prev[i], n, floor - y, g.friction.into());
+            }
+        }
+        for s in &scene.spheres {
+            let c = V::from_vec3(s.center);
+            let r = <V::S as From<f32>>::from(s.radius) + offset;
+            let d = x - c;
+            let len = d.length();
+            if len < r && len > V::S::epsilon() {
+                let n = d * (V::S::one() / len);
+                x += n * (r - len);
+                x = friction(x, p.x_prev[i], n, r - len, s.friction.into());
+            }
+        }
+        p.x[i] = x;
+    }
+}
+
+#[inline]
+fn friction<V: Vector>(x: V, x_prev: V, n: V, depth: V::S, mu: V::S) -> V {
+    let disp = x - x_prev;
+    let t = disp - n * disp.dot(n);
+    let tl = t.length();
+    let limit = mu * depth;
+    if tl <= limit { x - t } else { x - t * (limit / tl) }
+}

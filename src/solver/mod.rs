@@ -1,0 +1,127 @@
+//! Solvers and their settings. The CPU reference solver ([`CpuSolver`]) runs the stage list that
+//! every backend follows, per substep of `h = dt / substeps` (SPEC §1):
+//!
+//! 1. predict: `x_prev = x`, `v += h g`, `x += h v` (free particles only);
+//! 2. `λ = 0`;
+//! 3. `iterations` times: each family in order (springs, then bending), each color group in
+//!    increasing color (Gauss-Seidel)
+//!    or every constraint against the same iterate (Jacobi); then the contact projection;
+//! 4. the final contact pass;
+//! 5. `v = (x − x_prev) / h`, then `v ← v (1 − β_v h)`.
+
+mod contacts;
+mod cpu;
+mod particles;
+mod xpbd;
+
+pub use cpu::CpuSolver;
+pub use particles::Particles;
+pub use xpbd::{StepConstants, delta_lambda};
+
+use crate::constraints::Form;
+use crate::error::{Error, Result};
+
+/// How constraints are iterated.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Method {
+    /// Gauss-Seidel over color groups: each group sees the updates of the previous ones.
+    #[default]
+    GaussSeidel,
+    /// Jacobi: every constraint reads the same iterate; constraint `j` scales its `Δλ` by
+    /// `ω / max_{i∈j} nᵢ` (`nᵢ` = constraints touching particle `i`), and the scaled value is
+    /// both applied and accumulated into `λ`.
+    Jacobi,
+}
+
+impl Method {
+    /// Names accepted on the command line.
+    pub const NAMES: [&'static str; 2] = ["gauss-seidel", "jacobi"];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::GaussSeidel => "gauss-seidel",
+            Method::Jacobi => "jacobi",
+        }
+    }
+}
+
+/// Solver settings; every field may change between frames.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Frame time step `dt` (s).
+    pub dt: f32,
+    /// Substeps per frame.
+    pub substeps: u32,
+    /// Constraint iterations per substep.
+    pub iterations: u32,
+    /// Projection form.
+    pub form: Form,
+    /// Iteration method.
+    pub method: Method,
+    /// Jacobi relaxation `ω` (0 < ω < 2).
+    pub jacobi_omega: f32,
+    /// Explicit velocity damping `β_v` (1/s): `v ← v (1 − β_v h)`.
+    pub damping: f32,
+    /// XPBD constraint damping `β` (s), eq. 26 of Macklin et al. 2016.
+    pub constraint_damping: f32,
+    /// Compliance `α` of the energy form (the paper's author used 1e-5).
+    pub energy_compliance: f32,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            dt: 1.0 / 60.0,
+            substeps: 1,
+            iterations: 30,
+            form: Form::Compliant,
+            method: Method::GaussSeidel,
+            jacobi_omega: 1.0,
+            damping: 0.0,
+            constraint_damping: 0.0,
+            energy_compliance: 1.0e-5,
+        }
+    }
+}
+
+impl Settings {
+    /// Substep length `h = dt / substeps` (s).
+    pub fn h(&self) -> f32 {
+        self.dt / self.substeps as f32
+    }
+
+    /// Rejects values that cannot give a meaningful simulation.
+    pub fn validate(&self) -> Result<()> {
+        let finite_pos = |v: f32| v.is_finite() && v > 0.0;
+        if !(finite_pos(self.dt) && self.dt <= 1.0) {
+            return Err(Error::param("--dt", self.dt, "must be in (0, 1] seconds"));
+        }
+        if !(1..=100_000).contains(&self.substeps) {
+            return Err(Error::param("--substeps", self.substeps, "must be in 1..=100000"));
+        }
+        if self.iterations > 100_000 {
+            return Err(Error::param("--iterations", self.iterations, "must be at most 100000"));
+        }
+        if !(finite_pos(self.jacobi_omega) && self.jacobi_omega < 2.0) {
+            return Err(Error::param("--jacobi-omega", self.jacobi_omega, "must be in (0, 2)"));
+        }
+        if !(self.damping.is_finite() && self.damping >= 0.0) {
+            return Err(Error::param("--damping", self.damping, "must be a finite rate ≥ 0 (1/s)"));
+        }
+        if !(self.constraint_damping.is_finite() && self.constraint_damping >= 0.0) {
+            return Err(Error::param("--constraint-damping", self.constraint_damping, "must be finite and ≥ 0 (s)"));
+        }
+        if !(finite_pos(self.energy_compliance)) {
+            return Err(Error::param("--energy-compliance", self.energy_compliance, "must be positive and finite"));
+        }
+        Ok(())
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Error::lookup("solver", s, &[("gauss-seidel", Method::GaussSeidel), ("jacobi", Method::Jacobi)])
+    }
+}

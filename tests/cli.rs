@@ -1,0 +1,81 @@
+//! The command line: outputs it writes and the errors it reports.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn eapbd(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_eapbd")).args(args).output().expect("the binary runs")
+}
+
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("eapbd-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir.join(name)
+}
+
+#[test]
+fn simulate_writes_csv_and_obj() {
+    let (csv, obj) = (scratch("run.csv"), scratch("final.obj"));
+    let out = eapbd(&[
+        "simulate",
+        "--scene",
+        "cloth",
+        "--resolution",
+        "9",
+        "--frames",
+        "5",
+        "--print-every",
+        "2",
+        "--csv",
+        csv.to_str().unwrap(),
+        "--export-obj",
+        obj.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(stdout.lines().filter(|l| l.starts_with("frame")).count(), 2, "{stdout}");
+    assert!(stdout.contains("summary: 5 frames") && stdout.contains("all finite"), "{stdout}");
+    let csv = std::fs::read_to_string(csv).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows.len(), 6);
+    assert!(rows[0].starts_with("frame,time_ms,residual_rms"));
+    assert_eq!(rows[5].split(',').count(), rows[0].split(',').count());
+    let obj = std::fs::read_to_string(obj).unwrap();
+    assert_eq!(obj.lines().filter(|l| l.starts_with("v ")).count(), 81);
+    assert_eq!(obj.lines().filter(|l| l.starts_with("f ")).count(), 128);
+    // Positions after 5 frames have fallen below the start height (1.2 m) but are finite.
+    let ys: Vec<f32> =
+        obj.lines().filter(|l| l.starts_with("v ")).map(|l| l.split(' ').nth(2).unwrap().parse().unwrap()).collect();
+    assert!(ys.iter().all(|y| y.is_finite() && *y <= 1.2 + 1e-6));
+    assert!(ys.iter().any(|y| *y < 1.19));
+}
+
+#[test]
+fn unknown_names_list_the_allowed_values() {
+    for (flag, value, allowed) in [
+        ("--material", "rubber", "hookean, stvk-spring"),
+        ("--form", "weak", "compliant, energy"),
+        ("--solver", "newton", "gauss-seidel, jacobi"),
+    ] {
+        let out = eapbd(&["simulate", flag, value, "--frames", "1"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert!(err.contains(value) && err.contains(allowed), "{flag}: {err}");
+    }
+    let out = eapbd(&["simulate", "--scene", "drape", "--frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("cloth, cloth-paper, cloth-sphere"), "{err}");
+}
+
+#[test]
+fn absurd_parameters_are_refused_with_a_reason() {
+    for (flag, value) in [("--dt", "0"), ("--stiffness", "-5"), ("--jacobi-omega", "3"), ("--substeps", "0")] {
+        let out = eapbd(&["simulate", flag, value, "--frames", "1"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{flag} {value} accepted");
+        assert!(err.contains(flag) && !err.contains("panicked"), "{flag}: {err}");
+    }
+    let out = eapbd(&["simulate", "--frames", "1", "--export-obj", "/nonexistent-dir/x.obj"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("/nonexistent-dir/x.obj") && !err.contains("panicked"), "{err}");
+}

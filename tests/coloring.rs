@@ -1,0 +1,101 @@
+//! Mesh coloring: valid partitions on the cloth and on random graphs, and the solve order.
+
+use eapbd::coloring::{self, Incidence};
+use eapbd::mesh::{dihedral_pairs, grid, unique_edges};
+use eapbd::scene::{self, SceneOptions};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+#[test]
+fn cloth_springs_and_bending_are_validly_colored() {
+    let mesh = grid(41, 1.0, 0.0);
+    let n = mesh.positions.len();
+    let edges = unique_edges(&mesh.triangles);
+    assert_eq!(edges.len(), 4880, "the paper's cloth has 4880 edges");
+    let c = coloring::color(n, &edges);
+    c.validate(n, &edges).unwrap();
+    let s = c.stats();
+    // Interior particles touch 6 springs, so at least 6 colors are needed.
+    assert!((6..=8).contains(&s.colors), "{s}");
+    assert!(s.max_group - s.min_group <= s.max_group / 10, "unbalanced groups: {s}");
+
+    let hinges = dihedral_pairs(&mesh.triangles);
+    assert_eq!(hinges.len(), 4880 - 4 * 40, "one hinge per interior edge");
+    let c = coloring::color(n, &hinges);
+    c.validate(n, &hinges).unwrap();
+}
+
+#[test]
+fn random_graphs_are_validly_colored() {
+    let mut rng = SmallRng::seed_from_u64(11);
+    for (np, ne) in [(10usize, 40usize), (1000, 20_000), (5000, 20_000)] {
+        let edges: Vec<[u32; 2]> = (0..ne)
+            .map(|_| {
+                let a = rng.random_range(0..np as u32);
+                [a, (a + rng.random_range(1..np as u32)) % np as u32]
+            })
+            .collect();
+        let c = coloring::color(np, &edges);
+        c.validate(np, &edges).unwrap();
+        // Every element in exactly one group of the solve order.
+        let (perm, ranges) = c.order();
+        let mut seen = vec![0u32; ne];
+        for (color, r) in ranges.iter().enumerate() {
+            for &j in &perm[r.start as usize..r.end as usize] {
+                assert_eq!(c.color_of[j as usize], color as u32);
+                seen[j as usize] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&s| s == 1), "an element is missing or repeated in the order");
+        // First fit never needs more than max degree + 1 colors.
+        let inc = Incidence::new(np, &edges);
+        let max_deg = (0..np).map(|p| inc.degree(p)).max().unwrap_or(0);
+        assert!(c.num_colors <= max_deg + 1, "{} colors for max degree {max_deg}", c.num_colors);
+    }
+}
+
+#[test]
+fn dense_graph_needs_more_than_64_colors_and_gets_them() {
+    // A complete graph on 80 particles needs 80 colors (one layer of masks holds 64).
+    let np = 80u32;
+    let edges: Vec<[u32; 2]> = (0..np).flat_map(|a| (a + 1..np).map(move |b| [a, b])).collect();
+    let c = coloring::color(np as usize, &edges);
+    c.validate(np as usize, &edges).unwrap();
+    assert!(c.num_colors >= 79, "{} colors", c.num_colors);
+}
+
+#[test]
+fn validate_reports_a_conflict() {
+    let edges = [[0u32, 1], [1, 2]];
+    let bad = coloring::Coloring { color_of: vec![0, 0], num_colors: 1 };
+    let err = bad.validate(3, &edges).unwrap_err();
+    assert!(err.contains("share particle 1"), "{err}");
+}
+
+#[test]
+fn scene_families_are_stored_in_color_order() {
+    let s = scene::build("cloth", &SceneOptions::default()).unwrap();
+    for (name, idx, ranges) in [
+        (
+            "springs",
+            s.springs.as_ref().unwrap().elements.iter().map(|e| vec![e.a, e.b]).collect::<Vec<_>>(),
+            &s.springs.as_ref().unwrap().colors,
+        ),
+        (
+            "bending",
+            s.bends.as_ref().unwrap().elements.iter().map(|e| e.p.to_vec()).collect(),
+            &s.bends.as_ref().unwrap().colors,
+        ),
+    ] {
+        assert_eq!(ranges.first().map(|r| r.start), Some(0), "{name}");
+        assert_eq!(ranges.last().map(|r| r.end as usize), Some(idx.len()), "{name}");
+        for r in ranges {
+            let mut used = std::collections::HashSet::new();
+            for e in &idx[r.start as usize..r.end as usize] {
+                for p in e {
+                    assert!(used.insert(*p), "{name}: particle {p} twice in one color group");
+                }
+            }
+        }
+    }
+}

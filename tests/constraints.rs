@@ -1,0 +1,173 @@
+//! Constraint families: zero energy and stress at rest, gradients against central finite
+//! differences in f64, finite values on degenerate elements.
+
+use eapbd::constraints::{Bend, BendParams, Element, Form, Spring, SpringMaterial, SpringParams};
+use glam::{DVec3, Vec3};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+const MATERIALS: [SpringMaterial; 2] = [SpringMaterial::Hookean, SpringMaterial::StVK];
+
+fn rand_vec(rng: &mut SmallRng, s: f64) -> DVec3 {
+    DVec3::new(rng.random_range(-s..s), rng.random_range(-s..s), rng.random_range(-s..s))
+}
+
+/// Central differences of `f` with respect to every coordinate of every particle.
+fn fd_gradient<const N: usize>(x: &[DVec3; N], f: impl Fn(&[DVec3; N]) -> f64) -> [DVec3; N] {
+    let h = 1e-6;
+    let mut g = [DVec3::ZERO; N];
+    for n in 0..N {
+        for k in 0..3 {
+            let (mut xp, mut xm) = (*x, *x);
+            xp[n][k] += h;
+            xm[n][k] -= h;
+            g[n][k] = (f(&xp) - f(&xm)) / (2.0 * h);
+        }
+    }
+    g
+}
+
+fn assert_close<const N: usize>(what: &str, a: &[DVec3; N], b: &[DVec3; N]) {
+    let scale = b.iter().map(|v| v.length()).fold(1e-3, f64::max);
+    for n in 0..N {
+        let err = (a[n] - b[n]).length();
+        assert!(err <= 1e-5 * scale, "{what}: particle {n}: analytic {:?} vs finite differences {:?}", a[n], b[n]);
+    }
+}
+
+/// Checks energy, energy gradient and compliant-form gradient of `e` at `x` against finite
+/// differences.
+fn check_gradients<E: Element<N>, const N: usize>(what: &str, e: &E, p: &E::Params, x: &[DVec3; N]) {
+    let g = e.energy_gradient(p, x);
+    let fd = fd_gradient(x, |y| e.energy(p, y));
+    assert_close(&format!("{what} energy gradient"), &g, &fd);
+    let proj = e.compliant(p, x);
+    let fd_c = fd_gradient(x, |y| e.compliant(p, y).c);
+    assert_close(&format!("{what} compliant gradient"), &proj.grad, &fd_c);
+    // The compliant form's energy C²/(2α) is the material energy.
+    let e_c = proj.c * proj.c / (2.0 * proj.alpha);
+    let e_m = e.energy(p, x);
+    assert!((e_c - e_m).abs() <= 1e-9 * e_m.abs().max(1e-9), "{what}: C²/2α = {e_c} but E = {e_m}");
+    // The energy form projects on C = E.
+    let pe = e.constraint(p, x, Form::Energy, 1e-5);
+    assert_eq!(pe.c, e_m);
+    assert_eq!(pe.alpha, 1e-5);
+}
+
+#[test]
+fn springs_rest_state_has_zero_energy_and_stress() {
+    let mut rng = SmallRng::seed_from_u64(1);
+    for material in MATERIALS {
+        for _ in 0..100 {
+            let a = rand_vec(&mut rng, 1.0);
+            let b = a + rand_vec(&mut rng, 1.0);
+            let rest = a.distance(b) as f32;
+            let s = Spring::new(0, 1, rest, rng.random_range(1.0..1e6), material);
+            let p = SpringParams { material };
+            // Rest length from f32 positions, so evaluate there.
+            let x = [a.as_vec3(), a.as_vec3() + (b - a).as_vec3().normalize() * rest];
+            let e = s.energy(&p, &x);
+            let g = s.energy_gradient(&p, &x);
+            assert!(e.abs() <= 1e-6 * s.k, "{material:?}: energy {e} at rest");
+            assert!(g.iter().all(|g| g.length() <= 1e-3 * s.k.max(1.0)), "{material:?}: stress {g:?} at rest");
+            let c = s.compliant(&p, &x).c;
+            assert!(c.abs() <= 1e-5, "{material:?}: C = {c} at rest");
+        }
+    }
+}
+
+#[test]
+fn spring_gradients_match_finite_differences() {
+    let mut rng = SmallRng::seed_from_u64(2);
+    for material in MATERIALS {
+        for _ in 0..200 {
+            let x = [rand_vec(&mut rng, 1.0), rand_vec(&mut rng, 1.0)];
+            let s = Spring::new(0, 1, rng.random_range(0.1..2.0), rng.random_range(1.0..1e3), material);
+            check_gradients(&format!("{material:?} spring"), &s, &SpringParams { material }, &x);
+        }
+    }
+}
+
+#[test]
+fn stvk_spring_small_strain_stiffness_matches_hookean() {
+    // With k = k_s/(4 l₀²), both springs have the same energy to second order in the strain.
+    let (k_s, rest) = (500.0f32, 0.3f32);
+    let h = Spring::new(0, 1, rest, k_s, SpringMaterial::Hookean);
+    let s = Spring::new(0, 1, rest, k_s, SpringMaterial::StVK);
+    let x = [DVec3::ZERO, DVec3::new(rest as f64 * 1.001, 0.0, 0.0)];
+    let eh = h.energy(&SpringParams { material: SpringMaterial::Hookean }, &x);
+    let es = s.energy(&SpringParams { material: SpringMaterial::StVK }, &x);
+    assert!((eh - es).abs() / eh < 3e-3, "Hookean {eh} vs StVK {es} at 0.1% strain");
+}
+
+fn random_hinge(rng: &mut SmallRng) -> [DVec3; 4] {
+    // Two triangles on the edge x₀ → x₁, wings on either side, folded by a random angle.
+    let e = DVec3::new(rng.random_range(0.5..1.5), 0.0, 0.0);
+    let w2 = DVec3::new(rng.random_range(-0.5..1.5), rng.random_range(0.3..1.0), rng.random_range(-0.8..0.8));
+    let w3 = DVec3::new(rng.random_range(-0.5..1.5), -rng.random_range(0.3..1.0), rng.random_range(-0.8..0.8));
+    let off = rand_vec(rng, 1.0);
+    [off, off + e, off + w2, off + w3]
+}
+
+#[test]
+fn bending_rest_state_has_zero_energy_and_stress() {
+    let mut rng = SmallRng::seed_from_u64(3);
+    for _ in 0..100 {
+        let x = random_hinge(&mut rng).map(|v| v.as_vec3());
+        let b = Bend::at_rest([0, 1, 2, 3], &x, rng.random_range(1e-3..10.0));
+        let e = b.energy(&BendParams, &x);
+        let g = b.energy_gradient(&BendParams, &x);
+        assert!(e.abs() <= 1e-9, "energy {e} at rest");
+        assert!(g.iter().all(|g| g.length() <= 1e-4 * b.k), "stress {g:?} at rest");
+    }
+}
+
+#[test]
+fn flat_hinge_has_zero_angle_and_a_defined_gradient() {
+    let x = [Vec3::ZERO, Vec3::X, Vec3::new(0.5, 0.0, -1.0), Vec3::new(0.5, 0.0, 1.0)];
+    let (theta, g) = eapbd::constraints::bending::dihedral(&x.map(|v| v.as_dvec3()));
+    assert!(theta.abs() < 1e-12, "flat hinge angle {theta}");
+    assert!(g.iter().all(|g| g.is_finite()) && g[2].length() > 0.5, "gradient at flat state {g:?}");
+    let b = Bend::at_rest([0, 1, 2, 3], &x, 1.0);
+    let xd = x.map(|v| v.as_dvec3());
+    check_gradients("flat bend", &b, &BendParams, &xd);
+}
+
+#[test]
+fn bending_gradients_match_finite_differences() {
+    let mut rng = SmallRng::seed_from_u64(4);
+    for _ in 0..200 {
+        let rest = random_hinge(&mut rng).map(|v| v.as_vec3());
+        let b = Bend::at_rest([0, 1, 2, 3], &rest, rng.random_range(0.01..10.0));
+        let x = rest.map(|v| v.as_dvec3() + DVec3::new(0.0, 0.0, 0.0));
+        let mut y = x;
+        for v in &mut y {
+            *v += rand_vec(&mut rng, 0.2);
+        }
+        check_gradients("bend", &b, &BendParams, &y);
+    }
+}
+
+#[test]
+fn degenerate_elements_stay_finite() {
+    let p = DVec3::new(0.3, 0.2, 0.1);
+    for material in MATERIALS {
+        let s = Spring::new(0, 1, 0.5, 100.0, material);
+        let sp = SpringParams { material };
+        let x = [p, p];
+        assert!(s.energy(&sp, &x).is_finite());
+        assert!(s.energy_gradient(&sp, &x).iter().all(|g| g.is_finite()));
+        let pr = s.compliant(&sp, &x);
+        assert!(pr.c.is_finite() && pr.grad.iter().all(|g| g.is_finite()));
+    }
+    // Collinear wing (zero-area triangle), zero-length edge, all points equal.
+    let cases =
+        [[DVec3::ZERO, DVec3::X, DVec3::X * 2.0, DVec3::new(0.5, -1.0, 0.0)], [p, p, DVec3::Y, DVec3::Z], [p, p, p, p]];
+    let b = Bend { p: [0, 1, 2, 3], rest_angle: 0.3, k: 1.0 };
+    for x in cases {
+        assert!(b.energy(&BendParams, &x).is_finite(), "{x:?}");
+        assert!(b.energy_gradient(&BendParams, &x).iter().all(|g| g.is_finite()), "{x:?}");
+        let pr = b.compliant(&BendParams, &x);
+        assert!(pr.c.is_finite() && pr.grad.iter().all(|g| g.is_finite()), "{x:?}");
+    }
+}
