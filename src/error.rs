@@ -28,6 +28,16 @@ pub enum Error {
     /// A mesh that cannot be simulated (degenerate or inconsistent).
     #[error("invalid mesh: {0}")]
     InvalidMesh(String),
+    /// No GPU adapter could be opened.
+    #[error(
+        "no GPU adapter found ({0}). On a machine without a GPU install Mesa's Vulkan driver \
+         (Debian/Ubuntu: `sudo apt-get install mesa-vulkan-drivers libvulkan1`), or use the CPU \
+         backend (`--backend cpu`)"
+    )]
+    NoAdapter(String),
+    /// A GPU operation failed.
+    #[error("GPU error: {0}")]
+    Gpu(String),
     /// A file could not be read or written.
     #[error("{path}: {source}")]
     Io {

@@ -14,6 +14,7 @@
 pub mod coloring;
 pub mod constraints;
 pub mod error;
+pub mod gpu;
 pub mod math;
 pub mod mesh;
 pub mod metrics;

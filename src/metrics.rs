@@ -1,8 +1,9 @@
 //! Error and energy measures (SPEC §7), accumulated in `f64`.
 
+use crate::constraints::{Element, gather};
 use crate::math::prelude::*;
-use crate::scene::Scene;
-use crate::solver::CpuSolver;
+use crate::scene::{Family, Scene};
+use crate::solver::{CpuSolver, StepConstants};
 
 /// Mean and maximum relative stretch `||d| − l₀| / l₀` over `edges`, with rest lengths taken from
 /// `rest` positions.
@@ -34,6 +35,61 @@ pub fn gravitational<V: Vector>(scene: &Scene, x: &[V], w: &[V::S]) -> f64 {
     let g = scene.gravity.as_dvec3();
     let r = scene.rest_center_of_mass().as_dvec3();
     x.iter().zip(w).filter(|(_, w)| **w > V::S::zero()).map(|(x, w)| -g.dot(x.to_dvec3() - r) / w.to_f64()).sum()
+}
+
+/// RMS and maximum of the XPBD residual `|C_j + α̃ λ_j|` over every constraint of `scene`,
+/// with the multipliers `λ` of a substep run with constants `k`.
+pub fn residual<V: Vector>(
+    scene: &Scene,
+    x: &[V],
+    springs_lambda: &[V::S],
+    bends_lambda: &[V::S],
+    k: &StepConstants<V::S>,
+) -> (f64, f64) {
+    let (mut sq, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
+    let mut add = |r: V::S| {
+        let r = r.to_f64();
+        sq += r * r;
+        max = max.max(r);
+        n += 1;
+    };
+    if let Some(f) = &scene.springs {
+        for (e, &l) in f.elements.iter().zip(springs_lambda) {
+            add(crate::solver::residual(e, &f.params, x, l, k));
+        }
+    }
+    if let Some(f) = &scene.bends {
+        for (e, &l) in f.elements.iter().zip(bends_lambda) {
+            add(crate::solver::residual(e, &f.params, x, l, k));
+        }
+    }
+    if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), max) }
+}
+
+/// Total material energy of every constraint family of `scene` at `x` (J).
+pub fn elastic_energy<V: Vector>(scene: &Scene, x: &[V]) -> f64 {
+    fn family<E: Element<N>, V: Vector, const N: usize>(f: &Family<E, N>, x: &[V]) -> f64 {
+        f.elements.iter().map(|e| e.energy(&f.params, &gather(x, e.particles())).to_f64()).sum()
+    }
+    scene.springs.as_ref().map_or(0.0, |f| family(f, x)) + scene.bends.as_ref().map_or(0.0, |f| family(f, x))
+}
+
+/// A simulation state to measure: positions, velocities, inverse masses, and the multipliers
+/// and constants of the last substep (if one has run).
+#[derive(Clone, Copy, Debug)]
+pub struct StateView<'a, V: Vector> {
+    /// Positions (m).
+    pub x: &'a [V],
+    /// Velocities (m/s).
+    pub v: &'a [V],
+    /// Inverse masses (1/kg).
+    pub w: &'a [V::S],
+    /// Spring multipliers.
+    pub springs_lambda: &'a [V::S],
+    /// Bending multipliers.
+    pub bends_lambda: &'a [V::S],
+    /// Constants of the last substep.
+    pub constants: Option<&'a StepConstants<V::S>>,
 }
 
 /// What is reported for a frame.
@@ -74,10 +130,18 @@ impl FrameStats {
 
     /// Measures a CPU solver's current state.
     pub fn measure<V: Vector>(solver: &CpuSolver<V>, frame: u32, time_ms: f64) -> Self {
-        let scene = solver.scene();
         let p = &solver.particles;
-        let (residual_rms, residual_max) = solver.residual();
-        let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.positions, &p.x);
+        let (springs_lambda, bends_lambda) = solver.lambdas();
+        let state =
+            StateView { x: &p.x, v: &p.v, w: &p.w, springs_lambda, bends_lambda, constants: solver.last_constants() };
+        Self::of_state(solver.scene(), &state, frame, time_ms)
+    }
+
+    /// Measures any backend's state of `scene`.
+    pub fn of_state<V: Vector>(scene: &Scene, s: &StateView<'_, V>, frame: u32, time_ms: f64) -> Self {
+        let (residual_rms, residual_max) =
+            s.constants.map_or((0.0, 0.0), |k| residual(scene, s.x, s.springs_lambda, s.bends_lambda, k));
+        let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.positions, s.x);
         FrameStats {
             frame,
             time_ms,
@@ -85,9 +149,9 @@ impl FrameStats {
             residual_max,
             stretch_mean,
             stretch_max,
-            kinetic: kinetic(&p.v, &p.w),
-            gravitational: gravitational(scene, &p.x, &p.w),
-            elastic: solver.elastic_energy(),
+            kinetic: kinetic(s.v, s.w),
+            gravitational: gravitational(scene, s.x, s.w),
+            elastic: elastic_energy(scene, s.x),
         }
     }
 

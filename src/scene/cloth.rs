@@ -52,7 +52,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     let springs = Some(Family::new(SpringParams { material: o.material }, springs, np));
     let bends = (kb > 0.0).then(|| bending(&mesh, kb));
     let spheres = match kind {
-        Kind::Sphere => vec![Sphere { center: Vec3::new(0.0, 0.3, 0.0), radius: 0.3, friction: 0.4 }],
+        Kind::Sphere => vec![Sphere { center: Vec3::new(0.1, 0.3, 0.06), radius: 0.3, friction: 0.4 }],
         _ => Vec::new(),
     };
     let name = match kind {

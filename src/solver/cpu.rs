@@ -5,7 +5,9 @@ use crate::math::prelude::*;
 use crate::scene::{Family, Scene};
 
 use super::contacts::project_contacts;
-use super::xpbd::{StepConstants, residual, solve_element};
+use super::jacobi;
+use super::xpbd::{StepConstants, solve_element};
+use crate::metrics;
 use super::{Method, Particles, Settings};
 
 /// Per-family solver state: one multiplier per constraint, and Jacobi's per-constraint scale.
@@ -57,15 +59,7 @@ impl<V: Vector> CpuSolver<V> {
 
     /// Advances one frame of `settings.dt` (call [`Settings::validate`] first).
     pub fn step_frame(&mut self, s: &Settings) {
-        let h: V::S = s.h().into();
-        let k = StepConstants {
-            h,
-            inv_h: V::S::one() / h,
-            inv_h2: V::S::one() / (h * h),
-            beta: s.constraint_damping.into(),
-            form: s.form,
-            energy_compliance: s.energy_compliance.into(),
-        };
+        let k = StepConstants::new(s);
         if s.method == Method::Jacobi {
             self.prepare_jacobi(s.jacobi_omega);
         }
@@ -124,21 +118,14 @@ impl<V: Vector> CpuSolver<V> {
         if self.jacobi_omega == Some(omega) {
             return;
         }
-        let mut count = vec![0u32; self.particles.len()];
-        let mut tally = |idx: &[u32]| idx.iter().for_each(|&i| count[i as usize] += 1);
-        if let Some(f) = &self.scene.springs {
-            f.elements.iter().for_each(|e| tally(&e.particles()));
-        }
-        if let Some(f) = &self.scene.bends {
-            f.elements.iter().for_each(|e| tally(&e.particles()));
-        }
         self.jacobi_omega = Some(omega);
+        let count = jacobi::constraint_counts(&self.scene);
         let omega: V::S = omega.into();
         if let Some(f) = &self.scene.springs {
-            self.springs.jacobi_scale = jacobi_scales(f, &count, omega);
+            self.springs.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
         }
         if let Some(f) = &self.scene.bends {
-            self.bends.jacobi_scale = jacobi_scales(f, &count, omega);
+            self.bends.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
         }
         self.dx = vec![V::ZERO; self.particles.len()];
     }
@@ -160,39 +147,23 @@ impl<V: Vector> CpuSolver<V> {
     /// multipliers of the last substep (SPEC §7). `(0, 0)` before the first step.
     pub fn residual(&self) -> (f64, f64) {
         let Some(k) = &self.last else { return (0.0, 0.0) };
-        let (mut sq, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
-        let mut add = |r: V::S| {
-            let r = r.to_f64();
-            sq += r * r;
-            max = max.max(r);
-            n += 1;
-        };
-        let x = &self.particles.x;
-        if let Some(f) = &self.scene.springs {
-            f.elements.iter().zip(&self.springs.lambda).for_each(|(e, &l)| add(residual(e, &f.params, x, l, k)));
-        }
-        if let Some(f) = &self.scene.bends {
-            f.elements.iter().zip(&self.bends.lambda).for_each(|(e, &l)| add(residual(e, &f.params, x, l, k)));
-        }
-        if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), max) }
+        metrics::residual(&self.scene, &self.particles.x, &self.springs.lambda, &self.bends.lambda, k)
     }
 
     /// Total material energy of every constraint family (J), accumulated in `f64`.
     pub fn elastic_energy(&self) -> f64 {
-        let x = &self.particles.x;
-        let mut e = 0.0;
-        if let Some(f) = &self.scene.springs {
-            e += family_energy(f, x);
-        }
-        if let Some(f) = &self.scene.bends {
-            e += family_energy(f, x);
-        }
-        e
+        metrics::elastic_energy(&self.scene, &self.particles.x)
     }
-}
 
-fn family_energy<E: Element<N>, V: Vector, const N: usize>(f: &Family<E, N>, x: &[V]) -> f64 {
-    f.elements.iter().map(|e| e.energy(&f.params, &gather(x, e.particles())).to_f64()).sum()
+    /// Multipliers of the last substep: springs, bending.
+    pub fn lambdas(&self) -> (&[V::S], &[V::S]) {
+        (&self.springs.lambda, &self.bends.lambda)
+    }
+
+    /// Constants of the last substep run, if any.
+    pub fn last_constants(&self) -> Option<&StepConstants<V::S>> {
+        self.last.as_ref()
+    }
 }
 
 /// One Gauss-Seidel sweep over a family's color groups, in order.
@@ -239,15 +210,4 @@ fn jacobi<E: Element<N>, V: Vector, const N: usize>(
             }
         }
     }
-}
-
-/// `s_j = ω / max_{i∈j} nᵢ` for each element of a family.
-fn jacobi_scales<E: Element<N>, S: Real, const N: usize>(f: &Family<E, N>, count: &[u32], omega: S) -> Vec<S> {
-    f.elements
-        .iter()
-        .map(|e| {
-            let n = e.particles().iter().map(|&i| count[i as usize]).max().unwrap_or(1).max(1);
-            omega / c::<S>(n as f64)
-        })
-        .collect()
 }

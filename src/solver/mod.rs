@@ -11,12 +11,13 @@
 
 mod contacts;
 mod cpu;
+pub mod jacobi;
 mod particles;
 mod xpbd;
 
 pub use cpu::CpuSolver;
 pub use particles::Particles;
-pub use xpbd::{StepConstants, delta_lambda};
+pub use xpbd::{StepConstants, delta_lambda, residual};
 
 use crate::constraints::Form;
 use crate::error::{Error, Result};

@@ -20,6 +20,21 @@ pub struct StepConstants<S: Real> {
     pub energy_compliance: S,
 }
 
+impl<S: Real> StepConstants<S> {
+    /// The constants of a substep under `s`.
+    pub fn new(s: &super::Settings) -> Self {
+        let h: S = s.h().into();
+        StepConstants {
+            h,
+            inv_h: S::one() / h,
+            inv_h2: S::one() / (h * h),
+            beta: s.constraint_damping.into(),
+            form: s.form,
+            energy_compliance: s.energy_compliance.into(),
+        }
+    }
+}
+
 /// Denominators below this are treated as zero (a vanishing gradient with zero compliance).
 const EPSILON: f64 = 1e-20;
 
@@ -76,7 +91,7 @@ pub(crate) fn solve_element<E: Element<N>, V: Vector, const N: usize>(
 
 /// The XPBD residual `|C + α̃λ|` of element `e` at the positions in `p`.
 #[inline]
-pub(crate) fn residual<E: Element<N>, V: Vector, const N: usize>(
+pub fn residual<E: Element<N>, V: Vector, const N: usize>(
     e: &E,
     params: &E::Params,
     x: &[V],

@@ -1,0 +1,75 @@
+// Shared solver types. Keep in sync with src/gpu/layout.rs (SimParams, DispatchRange, GpuSphere)
+// and with src/constraints (Spring, Bend).
+
+struct SimParams {
+    // xyz: gravity (m/s²); w: unused.
+    gravity: vec4<f32>,
+    // Substep h (s), 1/h, 1/h², constraint damping β (s).
+    h: f32,
+    inv_h: f32,
+    inv_h2: f32,
+    beta: f32,
+    // Compliance of the energy form; form: 0 compliant, 1 energy; spring material: 0 Hookean,
+    // 1 StVK; keep = max(1 − β_v h, 0), the velocity damping factor.
+    energy_compliance: f32,
+    form: u32,
+    material: u32,
+    keep: f32,
+    // Ground plane y (m), its friction μ, 1 if there is a ground, number of spheres.
+    ground_height: f32,
+    ground_friction: f32,
+    has_ground: u32,
+    num_spheres: u32,
+    // Distance kept from colliders (m), number of particles.
+    contact_offset: f32,
+    num_particles: u32,
+    pad0: u32,
+    pad1: u32,
+}
+
+// One dispatch's slice of a family (a color group, or all of it for Jacobi), bound with a
+// dynamic offset. slot_base: first Jacobi correction slot of the family.
+struct DispatchRange {
+    start: u32,
+    count: u32,
+    slot_base: u32,
+    pad: u32,
+}
+
+struct Sphere {
+    // xyz: centre (m); w: radius (m).
+    center_radius: vec4<f32>,
+    // x: friction μ.
+    friction: vec4<f32>,
+}
+
+const FORM_ENERGY: u32 = 1u;
+const MATERIAL_STVK: u32 = 1u;
+// Lengths below this are treated as zero (no direction), as on the CPU.
+const TINY: f32 = 1e-12;
+// Denominators below this skip the update, as on the CPU.
+const EPSILON: f32 = 1e-20;
+
+// Particle state: xyz position (m), w inverse mass (1/kg, 0 = pinned).
+@group(0) @binding(0) var<storage, read_write> x: array<vec4<f32>>;
+@group(0) @binding(1) var<storage, read_write> x_prev: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read_write> v: array<vec4<f32>>;
+@group(0) @binding(3) var<uniform> params: SimParams;
+@group(0) @binding(4) var<storage, read> spheres: array<Sphere>;
+
+@group(2) @binding(0) var<uniform> range: DispatchRange;
+
+// XPBD update (Macklin et al. 2016, eq. 26); mirrors solver::delta_lambda. Returns
+// vec2(Δλ, 1) or vec2(0, 0) when the update is skipped.
+fn delta_lambda(c: f32, sum_w_grad2: f32, alpha_tilde: f32, lambda: f32, gamma: f32, grad_dot_dx: f32) -> vec2<f32> {
+    let denom = (1.0 + gamma) * sum_w_grad2 + alpha_tilde;
+    if (!(denom > EPSILON)) {
+        return vec2<f32>(0.0, 0.0);
+    }
+    return vec2<f32>((-c - alpha_tilde * lambda - gamma * grad_dot_dx) / denom, 1.0);
+}
+
+// The stride of a grid-stride loop over `range.count` items.
+fn stride(num_groups: vec3<u32>) -> u32 {
+    return num_groups.x * 64u;
+}

@@ -1,0 +1,54 @@
+//! Adapter and device selection.
+
+use crate::error::{Error, Result};
+
+/// A wgpu instance, adapter, device and queue shared by the solver and the renderer.
+#[derive(Debug)]
+pub struct GpuContext {
+    /// The instance (kept alive with its adapter).
+    pub instance: wgpu::Instance,
+    /// The adapter in use.
+    pub adapter: wgpu::Adapter,
+    /// The device.
+    pub device: wgpu::Device,
+    /// The device's queue.
+    pub queue: wgpu::Queue,
+}
+
+impl GpuContext {
+    /// Opens the default adapter without a window (honouring `WGPU_BACKEND`, `WGPU_ADAPTER_NAME`
+    /// and `WGPU_POWER_PREF`). On a machine without a GPU, Mesa's lavapipe (Debian package
+    /// `mesa-vulkan-drivers`) provides a Vulkan device on the CPU.
+    pub fn new() -> Result<Self> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None))
+            .map_err(|e| Error::NoAdapter(e.to_string()))?;
+        Self::with_adapter(instance, adapter)
+    }
+
+    /// Opens a device on a chosen adapter.
+    pub fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self> {
+        let desc = wgpu::DeviceDescriptor {
+            label: Some("eapbd"),
+            required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+            ..Default::default()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+            .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", adapter.get_info().name)))?;
+        Ok(GpuContext { instance, adapter, device, queue })
+    }
+
+    /// Adapter name and backend, for reports.
+    pub fn describe(&self) -> String {
+        let info = self.adapter.get_info();
+        format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+    }
+
+    /// Blocks until the queue is idle.
+    pub fn wait(&self) -> Result<()> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))
+    }
+}

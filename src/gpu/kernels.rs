@@ -1,0 +1,174 @@
+//! Compute pipelines of the solver, built once per device and shared by every scene on it. The
+//! pipelines of a constraint family, and Jacobi's gather, are compiled on first use, so a device
+//! that only runs springs never builds the bending kernels.
+
+use std::sync::OnceLock;
+
+use super::shaders;
+
+/// Bind group layouts and compute pipelines of the solver.
+#[derive(Debug)]
+pub struct Kernels {
+    device: wgpu::Device,
+    /// Group 0: particle state, parameters, spheres.
+    pub particles_layout: wgpu::BindGroupLayout,
+    /// Group 1 for Gauss-Seidel and λ reset: elements, λ.
+    pub family_layout: wgpu::BindGroupLayout,
+    /// Group 1 for Jacobi: elements, λ, scales, corrections.
+    pub family_jacobi_layout: wgpu::BindGroupLayout,
+    /// Group 1 for the Jacobi gather: corrections, incidence.
+    pub apply_layout: wgpu::BindGroupLayout,
+    /// Group 2: the dispatch range (dynamic offset).
+    pub range_layout: wgpu::BindGroupLayout,
+    /// `predict`.
+    pub predict: wgpu::ComputePipeline,
+    /// `contacts` (inside the iteration loop).
+    pub contacts: wgpu::ComputePipeline,
+    /// `finish`: final contact pass and velocity update.
+    pub finish: wgpu::ComputePipeline,
+    particles_module: wgpu::ShaderModule,
+    jacobi_apply: OnceLock<wgpu::ComputePipeline>,
+    springs: OnceLock<FamilyKernels>,
+    bending: OnceLock<FamilyKernels>,
+}
+
+/// The three kernels of a constraint family.
+#[derive(Debug)]
+pub struct FamilyKernels {
+    /// One color group, Gauss-Seidel.
+    pub gauss_seidel: wgpu::ComputePipeline,
+    /// All elements, Jacobi.
+    pub jacobi: wgpu::ComputePipeline,
+    /// λ = 0.
+    pub clear: wgpu::ComputePipeline,
+}
+
+fn storage(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn uniform(binding: u32, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: dynamic,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn layout(device: &wgpu::Device, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries })
+}
+
+/// A compute pipeline for `entry` of `module` with the given groups.
+fn pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    groups: &[Option<&wgpu::BindGroupLayout>],
+) -> wgpu::ComputePipeline {
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(entry),
+        bind_group_layouts: groups,
+        immediate_size: 0,
+    });
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(entry),
+        layout: Some(&layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// Compiles a WGSL module.
+pub(crate) fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(label),
+        source: wgpu::ShaderSource::Wgsl(source.into()),
+    })
+}
+
+impl Kernels {
+    /// Builds every solver pipeline on `device`.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let particles_layout = layout(
+            device,
+            "particles",
+            &[storage(0, false), storage(1, false), storage(2, false), uniform(3, false), storage(4, true)],
+        );
+        let family_layout = layout(device, "family", &[storage(0, true), storage(1, false)]);
+        let family_jacobi_layout =
+            layout(device, "family-jacobi", &[storage(0, true), storage(1, false), storage(2, true), storage(3, false)]);
+        let apply_layout = layout(device, "jacobi-apply", &[storage(0, true), storage(1, true), storage(2, true)]);
+        let range_layout = layout(device, "range", &[uniform(0, true)]);
+
+        let particles_module = module(device, "particles", shaders::PARTICLES);
+        let p = Some(&particles_layout);
+        Kernels {
+            predict: pipeline(device, &particles_module, "predict", &[p]),
+            contacts: pipeline(device, &particles_module, "contacts", &[p]),
+            finish: pipeline(device, &particles_module, "finish", &[p]),
+            device: device.clone(),
+            particles_module,
+            jacobi_apply: OnceLock::new(),
+            springs: OnceLock::new(),
+            bending: OnceLock::new(),
+            particles_layout,
+            family_layout,
+            family_jacobi_layout,
+            apply_layout,
+            range_layout,
+        }
+    }
+
+    /// `jacobi_apply` (built on first use).
+    pub fn jacobi_apply(&self) -> &wgpu::ComputePipeline {
+        self.jacobi_apply.get_or_init(|| {
+            let groups = [Some(&self.particles_layout), Some(&self.apply_layout)];
+            pipeline(&self.device, &self.particles_module, "jacobi_apply", &groups)
+        })
+    }
+
+    /// The spring kernels (built on first use).
+    pub fn springs(&self) -> &FamilyKernels {
+        self.springs.get_or_init(|| self.family(shaders::SPRINGS, "springs"))
+    }
+
+    /// The bending kernels (built on first use).
+    pub fn bending(&self) -> &FamilyKernels {
+        self.bending.get_or_init(|| self.family(shaders::BENDING, "bending"))
+    }
+
+    fn family(&self, source: &str, name: &str) -> FamilyKernels {
+        let m = module(&self.device, name, source);
+        let p = Some(&self.particles_layout);
+        let r = Some(&self.range_layout);
+        let gs = [p, Some(&self.family_layout), r];
+        let jac = [p, Some(&self.family_jacobi_layout), r];
+        FamilyKernels {
+            gauss_seidel: pipeline(&self.device, &m, &format!("{name}_gauss_seidel"), &gs),
+            jacobi: pipeline(&self.device, &m, &format!("{name}_jacobi"), &jac),
+            clear: pipeline(&self.device, &m, &format!("{name}_clear"), &gs),
+        }
+    }
+}
+
+/// Workgroups (of 64) for `count` items, capped for the grid-stride loops.
+pub(crate) fn groups(count: u32) -> u32 {
+    count.div_ceil(64).clamp(1, 65535)
+}

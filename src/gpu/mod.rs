@@ -1,0 +1,16 @@
+//! The wgpu GPU solver: one compute pipeline per stage and constraint family (WGSL under
+//! `shaders/`), built once per device ([`Kernels`]), and per-scene buffers ([`GpuSolver`]) that the
+//! renderer reads directly.
+
+mod context;
+mod kernels;
+mod layout;
+mod readback;
+pub mod shaders;
+mod solver;
+
+pub use context::GpuContext;
+pub use kernels::Kernels;
+pub use layout::{DispatchRange, GpuSphere, SimParams};
+pub use readback::read_buffer;
+pub use solver::{GpuSolver, GpuState};
