@@ -31,8 +31,8 @@ pub enum Error {
     /// No GPU adapter could be opened.
     #[error(
         "no GPU adapter found ({0}). On a machine without a GPU install Mesa's Vulkan driver \
-         (Debian/Ubuntu: `sudo apt-get install mesa-vulkan-drivers libvulkan1`), or use the CPU \
-         backend (`--backend cpu`)"
+         (Debian/Ubuntu: `sudo apt-get install mesa-vulkan-drivers libvulkan1`); simulating alone \
+         also works on the CPU backend (`simulate --backend cpu`)"
     )]
     NoAdapter(String),
     /// A GPU operation failed.

@@ -18,7 +18,9 @@ pub mod gpu;
 pub mod math;
 pub mod mesh;
 pub mod metrics;
+pub mod render;
 pub mod scene;
+pub mod simulation;
 pub mod solver;
 
 pub use error::{Error, Result};

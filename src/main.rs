@@ -1,4 +1,4 @@
-//! The `eapbd` command line: simulate scenes and benchmark the solvers.
+//! The `eapbd` command line: simulate scenes, render them headless, benchmark the solvers.
 
 mod cli;
 
@@ -8,6 +8,7 @@ fn main() -> anyhow::Result<()> {
     let args = cli::Cli::parse();
     match args.command {
         cli::Command::Simulate(a) => cli::simulate::run(&a),
+        cli::Command::Render(a) => cli::render::run(&a),
         cli::Command::Bench(a) => cli::bench::run(&a),
     }
 }

@@ -19,7 +19,14 @@ fn context() -> GpuContext {
 
 /// Runs `frames` frames on both backends; returns the largest particle distance (m) seen at the
 /// checkpoints, and the CPU's final positions.
-fn compare(ctx: &GpuContext, kernels: &Arc<Kernels>, name: &str, opts: SceneOptions, s: &Settings, frames: u32) -> (f32, Vec<Vec3>) {
+fn compare(
+    ctx: &GpuContext,
+    kernels: &Arc<Kernels>,
+    name: &str,
+    opts: SceneOptions,
+    s: &Settings,
+    frames: u32,
+) -> (f32, Vec<Vec3>) {
     let sc = scene::build(name, &opts).unwrap();
     let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
@@ -39,8 +46,6 @@ fn compare(ctx: &GpuContext, kernels: &Arc<Kernels>, name: &str, opts: SceneOpti
 
 /// Tolerance on the particle distance (m), relative to the 1 m cloth: 1e-4.
 const TOLERANCE: f32 = 1e-4;
-/// With friction contacts, whose stick/slip switch amplifies rounding: 1e-3.
-const CONTACT_TOLERANCE: f32 = 1e-3;
 
 #[test]
 fn cloth_matches_the_cpu_for_every_material_form_and_method() {

@@ -30,9 +30,9 @@ fn vs_main(@builtin(vertex_index) i: u32) -> VertexOut {
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
     let cell = floor(in.world.xz / ground.params.z);
     let checker = (i32(cell.x) + i32(cell.y)) & 1;
-    var base = vec3<f32>(0.55, 0.56, 0.58);
+    var base = vec3<f32>(0.42, 0.43, 0.45);
     if (checker == 1) {
-        base = vec3<f32>(0.45, 0.46, 0.48);
+        base = vec3<f32>(0.30, 0.31, 0.33);
     }
     let lit = shade(base, vec3<f32>(0.0, 1.0, 0.0), in.world);
     let fade = clamp(length(in.world.xz) / ground.params.y, 0.0, 1.0);

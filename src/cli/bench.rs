@@ -3,8 +3,11 @@
 use std::time::Instant;
 
 use clap::Args;
+use std::sync::Arc;
+
 use eapbd::coloring;
 use eapbd::constraints::Form;
+use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
 use eapbd::mesh::{grid, unique_edges};
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Method, Settings};
@@ -44,6 +47,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
             proj / 1e6
         );
     }
+    gpu_rows(warm, frames)?;
     println!();
     println!("Mesh coloring (best of {reps})");
     println!("| elements | particles | colors | group sizes | ms |");
@@ -61,6 +65,44 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
         })
         .collect();
     coloring_case("random graph", np as usize, &random, reps);
+    Ok(())
+}
+
+/// The GPU solver on `cloth-paper` (each frame submitted and waited for).
+fn gpu_rows(warm: u32, frames: u32) -> anyhow::Result<()> {
+    let ctx = match GpuContext::new() {
+        Ok(c) => c,
+        Err(e) => {
+            println!("\nGPU solver: not measured ({e})");
+            return Ok(());
+        }
+    };
+    let kernels = Arc::new(Kernels::new(&ctx.device));
+    println!("\nGPU solver on {} (median of {frames} frames, each submitted and waited for)", ctx.describe());
+    println!("| scene | solver | form | iterations x substeps | dispatches/frame | ms/frame |");
+    println!("|---|---|---|---|---|---|");
+    for (method, form) in [(Method::GaussSeidel, Form::Compliant), (Method::Jacobi, Form::Compliant)] {
+        let scene = scene::build("cloth-paper", &SceneOptions::default())?;
+        let s = Settings { iterations: 30, substeps: 1, method, form, ..Settings::default() };
+        let mut g = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, scene);
+        let mut t = Vec::with_capacity(frames as usize);
+        for i in 0..warm + frames {
+            let t0 = Instant::now();
+            g.step_frame(&s);
+            ctx.wait()?;
+            if i >= warm {
+                t.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+        t.sort_by(f64::total_cmp);
+        println!(
+            "| cloth-paper | {} | {} | 30 x 1 | {} | {:.3} |",
+            method.name(),
+            form.name(),
+            g.dispatches_per_frame(&s),
+            t[t.len() / 2]
+        );
+    }
     Ok(())
 }
 

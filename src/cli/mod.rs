@@ -1,6 +1,7 @@
 //! Command-line arguments shared by the subcommands.
 
 pub mod bench;
+pub mod render;
 pub mod simulate;
 
 use std::str::FromStr;
@@ -24,12 +25,14 @@ pub struct Cli {
 pub enum Command {
     /// Run a scene on the CPU solver and print per-frame residual, stretch and energies.
     Simulate(simulate::SimulateArgs),
+    /// Simulate headless and write frames as PNG images.
+    Render(render::RenderArgs),
     /// Time the solver and the mesh coloring.
     Bench(bench::BenchArgs),
 }
 
 /// Parses a value through its `FromStr`, whose error lists the allowed names.
-fn named<T: FromStr<Err = eapbd::Error>>(s: &str) -> Result<T, eapbd::Error> {
+pub(crate) fn named<T: FromStr<Err = eapbd::Error>>(s: &str) -> Result<T, eapbd::Error> {
     s.parse()
 }
 

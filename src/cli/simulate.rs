@@ -6,12 +6,14 @@ use std::time::Instant;
 
 use anyhow::Context;
 use clap::Args;
+use std::sync::Arc;
+
+use eapbd::gpu::{GpuContext, Kernels};
 use eapbd::metrics::FrameStats;
 use eapbd::scene;
-use eapbd::solver::CpuSolver;
-use glam::Vec3;
+use eapbd::simulation::{Backend, Simulation};
 
-use super::SceneArgs;
+use super::{SceneArgs, named};
 
 /// Arguments of `eapbd simulate`.
 #[derive(Args, Debug)]
@@ -31,14 +33,26 @@ pub struct SimulateArgs {
     /// Write the final mesh as Wavefront OBJ to this file.
     #[arg(long)]
     pub export_obj: Option<PathBuf>,
+    /// Solver backend: cpu or gpu.
+    #[arg(long, default_value = "cpu", value_parser = named::<Backend>)]
+    pub backend: Backend,
 }
 
 /// Runs the command.
 pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     let settings = a.scene.settings()?;
     let scene = scene::build(&a.scene.scene, &a.scene.scene_options())?;
+    let gpu = match a.backend {
+        Backend::Gpu => {
+            let ctx = GpuContext::new()?;
+            let kernels = Arc::new(Kernels::new(&ctx.device));
+            println!("GPU: {}", ctx.describe());
+            Some((ctx, kernels))
+        }
+        Backend::Cpu => None,
+    };
     println!(
-        "scene {}: {} particles, {} constraints ({}), {} form, {}, {} iterations x {} substeps, dt {:.6} s",
+        "scene {}: {} particles, {} constraints ({}), {} form, {}, {} iterations x {} substeps, dt {:.6} s, {} backend",
         scene.name,
         scene.num_particles(),
         scene.num_constraints(),
@@ -47,7 +61,8 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         settings.method.name(),
         settings.iterations,
         settings.substeps,
-        settings.dt
+        settings.dt,
+        a.backend.name()
     );
     let mut csv = match &a.csv {
         Some(path) => {
@@ -59,17 +74,20 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         }
         None => None,
     };
-    let mut solver = CpuSolver::<Vec3>::new(scene);
+    let mut sim = Simulation::new(a.backend, scene, gpu.as_ref().map(|(c, k)| (c, k)))?;
     let mut total_ms = 0.0;
     let mut last = FrameStats::default();
     for frame in 1..=a.frames {
         let t = Instant::now();
-        solver.step_frame(&settings);
+        sim.step_frame(&settings);
+        if let Some((ctx, _)) = &gpu {
+            ctx.wait()?;
+        }
         let ms = t.elapsed().as_secs_f64() * 1e3;
         total_ms += ms;
         let printing = a.print_every > 0 && frame % a.print_every == 0;
         if printing || csv.is_some() || frame == a.frames {
-            last = FrameStats::measure(&solver, frame, ms);
+            last = sim.stats(frame, ms)?;
             if printing {
                 println!("{last}");
             }
@@ -81,7 +99,8 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(mut f) = csv {
         f.flush()?;
     }
-    let finite = solver.particles.x.iter().all(|x| x.is_finite()) && last.is_finite();
+    let x = sim.positions()?;
+    let finite = x.iter().all(|x| x.is_finite()) && last.is_finite();
     println!(
         "summary: {} frames, {:.3} ms/frame mean solve time, final stretch mean {:.3e} max {:.3e}, total energy {:.4e} J, {}",
         a.frames,
@@ -92,8 +111,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         if finite { "all finite" } else { "NON-FINITE VALUES" }
     );
     if let Some(path) = &a.export_obj {
-        let x: Vec<Vec3> = solver.particles.x.clone();
-        eapbd::mesh::write_obj(path, &x, &solver.scene().triangles)?;
+        eapbd::mesh::write_obj(path, &x, &sim.scene().triangles)?;
         println!("wrote {}", path.display());
     }
     anyhow::ensure!(finite, "the simulation produced non-finite values");

@@ -96,7 +96,7 @@ fn pipeline(
 }
 
 /// Compiles a WGSL module.
-pub(crate) fn module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
+pub fn shader_module(device: &wgpu::Device, label: &str, source: &str) -> wgpu::ShaderModule {
     device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some(label),
         source: wgpu::ShaderSource::Wgsl(source.into()),
@@ -112,12 +112,15 @@ impl Kernels {
             &[storage(0, false), storage(1, false), storage(2, false), uniform(3, false), storage(4, true)],
         );
         let family_layout = layout(device, "family", &[storage(0, true), storage(1, false)]);
-        let family_jacobi_layout =
-            layout(device, "family-jacobi", &[storage(0, true), storage(1, false), storage(2, true), storage(3, false)]);
+        let family_jacobi_layout = layout(
+            device,
+            "family-jacobi",
+            &[storage(0, true), storage(1, false), storage(2, true), storage(3, false)],
+        );
         let apply_layout = layout(device, "jacobi-apply", &[storage(0, true), storage(1, true), storage(2, true)]);
         let range_layout = layout(device, "range", &[uniform(0, true)]);
 
-        let particles_module = module(device, "particles", shaders::PARTICLES);
+        let particles_module = shader_module(device, "particles", shaders::PARTICLES);
         let p = Some(&particles_layout);
         Kernels {
             predict: pipeline(device, &particles_module, "predict", &[p]),
@@ -155,7 +158,7 @@ impl Kernels {
     }
 
     fn family(&self, source: &str, name: &str) -> FamilyKernels {
-        let m = module(&self.device, name, source);
+        let m = shader_module(&self.device, name, source);
         let p = Some(&self.particles_layout);
         let r = Some(&self.range_layout);
         let gs = [p, Some(&self.family_layout), r];

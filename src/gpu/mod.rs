@@ -10,7 +10,7 @@ pub mod shaders;
 mod solver;
 
 pub use context::GpuContext;
-pub use kernels::Kernels;
+pub use kernels::{Kernels, shader_module};
 pub use layout::{DispatchRange, GpuSphere, SimParams};
-pub use readback::read_buffer;
+pub use readback::{map_and_copy, read_buffer};
 pub use solver::{GpuSolver, GpuState};

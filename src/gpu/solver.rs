@@ -209,7 +209,8 @@ impl GpuSolver {
         let bends = self.bends.as_ref().map(|f| (f, k.bending()));
         let families: Vec<(&GpuFamily, &FamilyKernels)> = springs.into_iter().chain(bends).collect();
         let particle_groups = groups(self.n);
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
         pass.set_bind_group(0, &self.particles_bind_group, &[]);
         for _ in 0..s.substeps {
             pass.set_pipeline(&k.predict);
@@ -271,7 +272,9 @@ impl GpuSolver {
         let fams = [&self.springs, &self.bends];
         let present = fams.iter().filter(|f| f.is_some()).count() as u64;
         let per_iteration = match s.method {
-            Method::GaussSeidel => fams.iter().flat_map(|f| f.iter()).map(|f| f.color_offsets.len() as u64).sum::<u64>(),
+            Method::GaussSeidel => {
+                fams.iter().flat_map(|f| f.iter()).map(|f| f.color_offsets.len() as u64).sum::<u64>()
+            }
             Method::Jacobi => present + 1,
         } + 1;
         s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration)
@@ -303,8 +306,14 @@ impl GpuSolver {
             incidence(&f.elements, g.slot_base, &mut lists);
             bend_scales = jacobi::scales(&f.elements, &count, omega);
         }
-        let total_slots: u32 = [&self.springs, &self.bends].iter().flat_map(|f| f.iter()).map(|f| f.arity * f.len).sum();
-        let corr = storage_buffer(&self.device, "jacobi corrections", &vec![0u8; total_slots as usize * 16], wgpu::BufferUsages::empty());
+        let total_slots: u32 =
+            [&self.springs, &self.bends].iter().flat_map(|f| f.iter()).map(|f| f.arity * f.len).sum();
+        let corr = storage_buffer(
+            &self.device,
+            "jacobi corrections",
+            &vec![0u8; total_slots as usize * 16],
+            wgpu::BufferUsages::empty(),
+        );
         let mut offsets = Vec::with_capacity(lists.len() + 1);
         let mut slots = Vec::new();
         offsets.push(0u32);
@@ -312,8 +321,14 @@ impl GpuSolver {
             slots.extend_from_slice(l);
             offsets.push(slots.len() as u32);
         }
-        let offsets = storage_buffer(&self.device, "incidence offsets", bytemuck::cast_slice(&offsets), wgpu::BufferUsages::empty());
-        let slots = storage_buffer(&self.device, "incidence slots", bytemuck::cast_slice(&slots), wgpu::BufferUsages::empty());
+        let offsets = storage_buffer(
+            &self.device,
+            "incidence offsets",
+            bytemuck::cast_slice(&offsets),
+            wgpu::BufferUsages::empty(),
+        );
+        let slots =
+            storage_buffer(&self.device, "incidence slots", bytemuck::cast_slice(&slots), wgpu::BufferUsages::empty());
         let apply_bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("jacobi apply"),
             layout: &self.kernels.apply_layout,
@@ -321,7 +336,12 @@ impl GpuSolver {
         });
         for (fam, sc) in [(&mut self.springs, spring_scales), (&mut self.bends, bend_scales)] {
             if let Some(f) = fam {
-                let scale = storage_buffer(&self.device, "jacobi scale", bytemuck::cast_slice(&sc), wgpu::BufferUsages::empty());
+                let scale = storage_buffer(
+                    &self.device,
+                    "jacobi scale",
+                    bytemuck::cast_slice(&sc),
+                    wgpu::BufferUsages::empty(),
+                );
                 let bg = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("family jacobi"),
                     layout: &self.kernels.family_jacobi_layout,

@@ -7,8 +7,8 @@ use crate::scene::{Family, Scene};
 use super::contacts::project_contacts;
 use super::jacobi;
 use super::xpbd::{StepConstants, solve_element};
-use crate::metrics;
 use super::{Method, Particles, Settings};
+use crate::metrics;
 
 /// Per-family solver state: one multiplier per constraint, and Jacobi's per-constraint scale.
 #[derive(Clone, Debug, Default)]

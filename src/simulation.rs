@@ -1,0 +1,112 @@
+//! A scene running on either backend, behind one interface for the command line and the viewer.
+
+use std::sync::Arc;
+
+use glam::{Vec3, Vec4};
+
+use crate::error::{Error, Result};
+use crate::gpu::{GpuContext, GpuSolver, Kernels};
+use crate::metrics::FrameStats;
+use crate::scene::Scene;
+use crate::solver::{CpuSolver, Settings};
+
+/// Where the solver runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Backend {
+    /// The CPU reference solver.
+    #[default]
+    Cpu,
+    /// The wgpu compute solver.
+    Gpu,
+}
+
+impl Backend {
+    /// Names accepted on the command line.
+    pub const NAMES: [&'static str; 2] = ["cpu", "gpu"];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Backend::Cpu => "cpu",
+            Backend::Gpu => "gpu",
+        }
+    }
+}
+
+impl std::str::FromStr for Backend {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Error::lookup("backend", s, &[("cpu", Backend::Cpu), ("gpu", Backend::Gpu)])
+    }
+}
+
+/// A scene being simulated on one backend.
+#[derive(Debug)]
+pub enum Simulation {
+    /// On the CPU (`f32`).
+    Cpu(Box<CpuSolver<Vec3>>),
+    /// On the GPU.
+    Gpu(Box<GpuSolver>),
+}
+
+impl Simulation {
+    /// Starts `scene` on `backend`; the GPU backend needs a context and its kernels.
+    pub fn new(backend: Backend, scene: Scene, gpu: Option<(&GpuContext, &Arc<Kernels>)>) -> Result<Self> {
+        Ok(match (backend, gpu) {
+            (Backend::Cpu, _) => Simulation::Cpu(Box::new(CpuSolver::new(scene))),
+            (Backend::Gpu, Some((ctx, k))) => {
+                Simulation::Gpu(Box::new(GpuSolver::new(k.clone(), &ctx.device, &ctx.queue, scene)))
+            }
+            (Backend::Gpu, None) => return Err(Error::Gpu("the GPU backend needs a device".into())),
+        })
+    }
+
+    /// The scene.
+    pub fn scene(&self) -> &Scene {
+        match self {
+            Simulation::Cpu(s) => s.scene(),
+            Simulation::Gpu(s) => s.scene(),
+        }
+    }
+
+    /// Advances one frame (on the GPU: records and submits it without waiting).
+    pub fn step_frame(&mut self, s: &Settings) {
+        match self {
+            Simulation::Cpu(c) => c.step_frame(s),
+            Simulation::Gpu(g) => g.step_frame(s),
+        }
+    }
+
+    /// Measures the current state (the GPU reads it back).
+    pub fn stats(&self, frame: u32, time_ms: f64) -> Result<FrameStats> {
+        match self {
+            Simulation::Cpu(c) => Ok(FrameStats::measure(c, frame, time_ms)),
+            Simulation::Gpu(g) => g.stats(frame, time_ms),
+        }
+    }
+
+    /// Current positions (m).
+    pub fn positions(&self) -> Result<Vec<Vec3>> {
+        match self {
+            Simulation::Cpu(c) => Ok(c.particles.x.clone()),
+            Simulation::Gpu(g) => g.read_positions(),
+        }
+    }
+}
+
+/// A `STORAGE | VERTEX` position buffer the CPU backend uploads into so the GPU renderer can
+/// draw it (`vec4` per particle, w = inverse mass).
+pub fn upload_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("uploaded positions"),
+        size: (n.max(1) * 16) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// Writes a CPU solver's positions into an [`upload_buffer`].
+pub fn upload_positions(queue: &wgpu::Queue, buffer: &wgpu::Buffer, solver: &CpuSolver<Vec3>) {
+    let x: Vec<Vec4> = solver.particles.x.iter().zip(&solver.particles.w).map(|(p, &w)| p.extend(w)).collect();
+    queue.write_buffer(buffer, 0, bytemuck::cast_slice(&x));
+}

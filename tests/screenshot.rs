@@ -1,0 +1,90 @@
+//! Screenshot tests: `cloth-paper` after 60 frames, drawn headless on the GPU, against a stored
+//! image. Regenerate the reference on purpose with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release
+//! --test screenshot`. Needs a GPU adapter (Mesa lavapipe in CI).
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use eapbd::gpu::{GpuContext, Kernels};
+use eapbd::render::{Snapshotter, save_png};
+use eapbd::scene::{self, SceneOptions};
+use eapbd::simulation::{Backend, Simulation};
+use eapbd::solver::Settings;
+
+const WIDTH: u32 = 320;
+const HEIGHT: u32 = 240;
+/// Mean absolute difference per channel (0–255) allowed against the reference.
+const MEAN_TOLERANCE: f64 = 1.5;
+
+fn golden(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(name)
+}
+
+fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    let sum: u64 = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y) as u64).sum();
+    sum as f64 / a.as_raw().len() as f64
+}
+
+/// Fraction of pixels that differ clearly from the background.
+fn coverage(img: &image::RgbaImage, background: &image::RgbaImage) -> f64 {
+    let changed = img
+        .pixels()
+        .zip(background.pixels())
+        .filter(|(a, b)| a.0.iter().zip(b.0).any(|(x, y)| x.abs_diff(y) > 24))
+        .count();
+    changed as f64 / (img.width() * img.height()) as f64
+}
+
+/// The scene drawn after `frames` frames, and the same view without the cloth.
+fn render(backend: Backend, frames: u32) -> (image::RgbaImage, image::RgbaImage) {
+    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("screenshot tests need a GPU adapter: {e}"));
+    let kernels = Arc::new(Kernels::new(&ctx.device));
+    let sc = scene::build("cloth-paper", &SceneOptions::default()).unwrap();
+    let mut sim = Simulation::new(backend, sc, Some((&ctx, &kernels))).unwrap();
+    let mut snap = Snapshotter::new(&ctx, &sim, WIDTH, HEIGHT).unwrap();
+    for _ in 0..frames {
+        sim.step_frame(&Settings::default());
+    }
+    let img = snap.capture(&ctx, &sim).unwrap();
+    snap.view.show_surface = false;
+    let background = snap.capture(&ctx, &sim).unwrap();
+    (img, background)
+}
+
+#[test]
+fn cloth_paper_matches_the_stored_image() {
+    let (img, background) = render(Backend::Gpu, 60);
+    let path = golden("cloth_paper_60.png");
+    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        save_png(&img, &path).unwrap();
+        eprintln!("updated {}", path.display());
+    }
+    let reference = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", path.display()))
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), img.dimensions());
+    let diff = mean_abs_diff(&img, &reference);
+    if diff >= MEAN_TOLERANCE {
+        let out = std::env::temp_dir().join("cloth_paper_60_actual.png");
+        save_png(&img, &out).unwrap();
+        panic!("mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}", out.display());
+    }
+
+    // Not blank: the cloth covers a sensible part of the picture and differs from what is
+    // behind it.
+    let fraction = coverage(&img, &background);
+    assert!((0.05..0.6).contains(&fraction), "the cloth covers {:.1}% of the image", 100.0 * fraction);
+}
+
+#[test]
+fn cpu_backend_draws_the_same_picture() {
+    // The CPU solver's positions, uploaded and drawn by the same renderer, after 20 frames
+    // (before the unbent cloth starts to crumple chaotically).
+    let (gpu, _) = render(Backend::Gpu, 20);
+    let (cpu, background) = render(Backend::Cpu, 20);
+    let diff = mean_abs_diff(&gpu, &cpu);
+    assert!(diff < 0.5, "CPU- and GPU-solved frames differ by {diff:.3} on average");
+    let fraction = coverage(&cpu, &background);
+    assert!(fraction > 0.05, "the CPU frame's cloth covers {:.1}%", 100.0 * fraction);
+}
