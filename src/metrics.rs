@@ -5,13 +5,11 @@ use crate::math::prelude::*;
 use crate::scene::{Family, Scene};
 use crate::solver::{CpuSolver, StepConstants};
 
-/// Mean and maximum relative stretch `||d| − l₀| / l₀` over `edges`, with rest lengths taken from
-/// `rest` positions.
-pub fn stretch<V: Vector>(edges: &[[u32; 2]], rest: &[glam::Vec3], x: &[V]) -> (f64, f64) {
+/// Mean and maximum relative stretch `||d| − l₀| / l₀` over `edges` of rest lengths `rest` (m).
+pub fn stretch<V: Vector>(edges: &[[u32; 2]], rest: &[f32], x: &[V]) -> (f64, f64) {
     let (mut sum, mut max) = (0.0f64, 0.0f64);
-    for &[a, b] in edges {
-        let (a, b) = (a as usize, b as usize);
-        let l0 = rest[a].as_dvec3().distance(rest[b].as_dvec3());
+    for (&[a, b], &l0) in edges.iter().zip(rest) {
+        let (a, b, l0) = (a as usize, b as usize, l0 as f64);
         let l = (x[b].to_dvec3() - x[a].to_dvec3()).length();
         let s = if l0 > 0.0 { (l - l0).abs() / l0 } else { 0.0 };
         sum += s;
@@ -29,11 +27,19 @@ pub fn kinetic<V: Vector>(v: &[V], w: &[V::S]) -> f64 {
         .sum()
 }
 
-/// Gravitational energy `−Σ m g·(x − x_ref)` over free particles (J), heights measured from the
-/// scene's rest centre of mass.
+/// Gravitational energy `−Σ m g·(x − x_ref)` over free particles (J) as reported: heights
+/// measured from the ground plane (`y = 0` without one), so a body's total energy starts
+/// positive and relative drifts are meaningful. (The global balance measures from the rest centre
+/// of mass instead, for rounding; the reference only shifts the value.)
 pub fn gravitational<V: Vector>(scene: &Scene, x: &[V], w: &[V::S]) -> f64 {
-    let g = scene.gravity.as_dvec3();
-    let r = scene.rest_center_of_mass().as_dvec3();
+    let floor = scene.ground.map_or(0.0, |g| g.height);
+    gravitational_about(scene.gravity, glam::Vec3::new(0.0, floor, 0.0), x, w)
+}
+
+/// Gravitational energy `−Σ m g·(x − x_ref)` over free particles (J) for gravity `g` (m/s²) and
+/// reference point `x_ref` (m).
+pub fn gravitational_about<V: Vector>(g: glam::Vec3, x_ref: glam::Vec3, x: &[V], w: &[V::S]) -> f64 {
+    let (g, r) = (g.as_dvec3(), x_ref.as_dvec3());
     x.iter().zip(w).filter(|(_, w)| **w > V::S::zero()).map(|(x, w)| -g.dot(x.to_dvec3() - r) / w.to_f64()).sum()
 }
 
@@ -90,6 +96,8 @@ pub struct StateView<'a, V: Vector> {
     pub bends_lambda: &'a [V::S],
     /// Constants of the last substep.
     pub constants: Option<&'a StepConstants<V::S>>,
+    /// Work of physical dissipation since the start (J).
+    pub dissipated: f64,
 }
 
 /// What is reported for a frame.
@@ -113,6 +121,9 @@ pub struct FrameStats {
     pub gravitational: f64,
     /// Elastic (material) energy (J).
     pub elastic: f64,
+    /// Work of physical dissipation since the start (J, ≤ 0 for losses): velocity damping and
+    /// the final contact pass. `total − dissipated` is what an exact integrator would conserve.
+    pub dissipated: f64,
 }
 
 impl FrameStats {
@@ -132,8 +143,15 @@ impl FrameStats {
     pub fn measure<V: Vector>(solver: &CpuSolver<V>, frame: u32, time_ms: f64) -> Self {
         let p = &solver.particles;
         let (springs_lambda, bends_lambda) = solver.lambdas();
-        let state =
-            StateView { x: &p.x, v: &p.v, w: &p.w, springs_lambda, bends_lambda, constants: solver.last_constants() };
+        let state = StateView {
+            x: &p.x,
+            v: &p.v,
+            w: &p.w,
+            springs_lambda,
+            bends_lambda,
+            constants: solver.last_constants(),
+            dissipated: solver.ledger.dissipated,
+        };
         Self::of_state(solver.scene(), &state, frame, time_ms)
     }
 
@@ -141,7 +159,7 @@ impl FrameStats {
     pub fn of_state<V: Vector>(scene: &Scene, s: &StateView<'_, V>, frame: u32, time_ms: f64) -> Self {
         let (residual_rms, residual_max) =
             s.constants.map_or((0.0, 0.0), |k| residual(scene, s.x, s.springs_lambda, s.bends_lambda, k));
-        let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.positions, s.x);
+        let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.edge_rest, s.x);
         FrameStats {
             frame,
             time_ms,
@@ -152,17 +170,17 @@ impl FrameStats {
             kinetic: kinetic(s.v, s.w),
             gravitational: gravitational(scene, s.x, s.w),
             elastic: elastic_energy(scene, s.x),
+            dissipated: s.dissipated,
         }
     }
 
     /// Column names of [`FrameStats::csv_row`].
-    pub const CSV_HEADER: &'static str =
-        "frame,time_ms,residual_rms,residual_max,stretch_mean,stretch_max,kinetic_j,gravitational_j,elastic_j,total_j";
+    pub const CSV_HEADER: &'static str = "frame,time_ms,residual_rms,residual_max,stretch_mean,stretch_max,kinetic_j,gravitational_j,elastic_j,total_j,dissipated_j";
 
     /// One CSV row.
     pub fn csv_row(&self) -> String {
         format!(
-            "{},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+            "{},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
             self.frame,
             self.time_ms,
             self.residual_rms,
@@ -172,7 +190,8 @@ impl FrameStats {
             self.kinetic,
             self.gravitational,
             self.elastic,
-            self.total()
+            self.total(),
+            self.dissipated
         )
     }
 }
@@ -181,7 +200,7 @@ impl std::fmt::Display for FrameStats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "frame {:5}  {:8.3} ms  residual rms {:.3e} max {:.3e}  stretch mean {:.3e} max {:.3e}  KE {:.4e} J  GPE {:+.4e} J  elastic {:.4e} J",
+            "frame {:5}  {:8.3} ms  residual rms {:.3e} max {:.3e}  stretch mean {:.3e} max {:.3e}  KE {:.4e} J  GPE {:+.4e} J  elastic {:.4e} J  total {:+.4e} J  dissipated {:+.3e} J",
             self.frame,
             self.time_ms,
             self.residual_rms,
@@ -190,7 +209,9 @@ impl std::fmt::Display for FrameStats {
             self.stretch_max,
             self.kinetic,
             self.gravitational,
-            self.elastic
+            self.elastic,
+            self.total(),
+            self.dissipated
         )
     }
 }

@@ -9,7 +9,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 use eapbd::constraints::{Form, SpringMaterial};
 use eapbd::scene::SceneOptions;
-use eapbd::solver::{Method, Settings};
+use eapbd::solver::{EnergyAware, Method, Settings};
 
 /// Energy-aware position-based dynamics for elastic models.
 #[derive(Parser, Debug)]
@@ -39,7 +39,7 @@ pub(crate) fn named<T: FromStr<Err = eapbd::Error>>(s: &str) -> Result<T, eapbd:
 /// Scene and solver options common to every command that runs a scene.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Scene: cloth, cloth-paper or cloth-sphere.
+    /// Scene: cloth, cloth-paper, cloth-sphere or cloth-free.
     #[arg(long, default_value = "cloth-paper")]
     pub scene: String,
     /// Particles per side of a cloth (default 41).
@@ -82,6 +82,16 @@ pub struct SceneArgs {
     /// Compliance α of the energy form.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0e-5)]
     pub energy_compliance: f32,
+    /// Energy-aware Gauss-Seidel: off, local (the paper's per-constraint reading) or global
+    /// (one energy balance per substep; "on" means global).
+    #[arg(long, default_value = "off", value_parser = named::<EnergyAware>)]
+    pub energy_aware: EnergyAware,
+    /// Successive over-relaxation ω (every Δλ times ω; 1 = plain, 1.5 is the usual baseline).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
+    pub sor: f32,
+    /// Switch gravity off.
+    #[arg(long)]
+    pub no_gravity: bool,
 }
 
 impl SceneArgs {
@@ -92,6 +102,7 @@ impl SceneArgs {
             stiffness: self.stiffness,
             material: self.material,
             bending_stiffness: self.bending_stiffness,
+            gravity: !self.no_gravity,
         }
     }
 
@@ -107,6 +118,8 @@ impl SceneArgs {
             damping: self.damping,
             constraint_damping: self.constraint_damping,
             energy_compliance: self.energy_compliance,
+            energy_aware: self.energy_aware,
+            sor: self.sor,
         };
         s.validate()?;
         Ok(s)

@@ -393,6 +393,7 @@ impl GpuSolver {
             springs_lambda: &st.springs_lambda,
             bends_lambda: &st.bends_lambda,
             constants: k.as_ref(),
+            dissipated: 0.0,
         };
         Ok(FrameStats::of_state(&self.scene, &view, frame, time_ms))
     }

@@ -16,7 +16,13 @@ pub(super) enum Kind {
     Paper,
     /// `cloth-sphere`: a free cloth dropped onto a sphere resting on the ground.
     Sphere,
+    /// `cloth-free`: no pins, no gravity, no ground, stretched by 10% in its plane at the start
+    /// (rest lengths are those of the unstretched grid): the clean energy-conservation test.
+    Free,
 }
+
+/// In-plane stretch of `cloth-free` at the start.
+const FREE_STRETCH: f32 = 1.1;
 
 const SIZE: f32 = 1.0;
 const MASS: f32 = 1.0;
@@ -32,7 +38,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     let mesh = grid(n, SIZE, height);
     mesh.validate()?;
     let mut inv_mass: Vec<f32> = mesh.lumped_masses(MASS).iter().map(|m| 1.0 / m).collect();
-    if kind != Kind::Sphere {
+    if matches!(kind, Kind::Hanging | Kind::Paper) {
         inv_mass[0] = 0.0;
         inv_mass[n as usize - 1] = 0.0;
     }
@@ -42,13 +48,10 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     };
     let np = mesh.positions.len();
     let edges = Scene::edges_of(&mesh.triangles);
-    let springs = edges
-        .iter()
-        .map(|&[a, b]| {
-            let rest = mesh.positions[a as usize].distance(mesh.positions[b as usize]);
-            Spring::new(a, b, rest, o.stiffness, o.material)
-        })
-        .collect();
+    let edge_rest: Vec<f32> =
+        edges.iter().map(|&[a, b]| mesh.positions[a as usize].distance(mesh.positions[b as usize])).collect();
+    let springs =
+        edges.iter().zip(&edge_rest).map(|(&[a, b], &rest)| Spring::new(a, b, rest, o.stiffness, o.material)).collect();
     let springs = Some(Family::new(SpringParams { material: o.material }, springs, np));
     let bends = (kb > 0.0).then(|| bending(&mesh, kb));
     let spheres = match kind {
@@ -59,18 +62,25 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         Kind::Hanging => "cloth",
         Kind::Paper => "cloth-paper",
         Kind::Sphere => "cloth-sphere",
+        Kind::Free => "cloth-free",
     };
+    let positions = match kind {
+        Kind::Free => mesh.positions.iter().map(|p| Vec3::new(p.x * FREE_STRETCH, p.y, p.z * FREE_STRETCH)).collect(),
+        _ => mesh.positions.clone(),
+    };
+    let free = kind == Kind::Free;
     Ok(Scene {
         name: name.into(),
-        positions: mesh.positions,
+        positions,
         inv_mass,
         triangles: mesh.triangles,
         edges,
+        edge_rest,
         springs,
         bends,
-        ground: Some(Ground { height: 0.0, friction: 0.5 }),
+        ground: (!free).then_some(Ground { height: 0.0, friction: 0.5 }),
         spheres,
-        gravity: Vec3::new(0.0, -9.81, 0.0),
+        gravity: if o.gravity && !free { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },
         contact_offset: 0.005,
     })
 }

@@ -46,6 +46,8 @@ pub struct Scene {
     pub triangles: Vec<[u32; 3]>,
     /// Edges whose relative stretch is reported (SPEC §7).
     pub edges: Vec<[u32; 2]>,
+    /// Rest length of each of `edges` (m).
+    pub edge_rest: Vec<f32>,
     /// Spring family, if the scene has springs.
     pub springs: Option<Family<Spring, 2>>,
     /// Bending family, if the scene has bending.
@@ -71,16 +73,24 @@ pub struct SceneOptions {
     pub material: SpringMaterial,
     /// Dihedral bending stiffness `k_b` (N·m/rad); `None` takes the scene's own, 0 disables.
     pub bending_stiffness: Option<f32>,
+    /// Gravity on (9.81 m/s² downwards) or off.
+    pub gravity: bool,
 }
 
 impl Default for SceneOptions {
     fn default() -> Self {
-        SceneOptions { resolution: None, stiffness: 1.0e4, material: SpringMaterial::Hookean, bending_stiffness: None }
+        SceneOptions {
+            resolution: None,
+            stiffness: 1.0e4,
+            material: SpringMaterial::Hookean,
+            bending_stiffness: None,
+            gravity: true,
+        }
     }
 }
 
 /// Names of the scenes [`build`] knows.
-pub const SCENES: [&str; 3] = ["cloth", "cloth-paper", "cloth-sphere"];
+pub const SCENES: [&str; 4] = ["cloth", "cloth-paper", "cloth-sphere", "cloth-free"];
 
 /// Builds the scene called `name`.
 pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
@@ -88,7 +98,12 @@ pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
     let kind = Error::lookup(
         "scene",
         name,
-        &[("cloth", cloth::Kind::Hanging), ("cloth-paper", cloth::Kind::Paper), ("cloth-sphere", cloth::Kind::Sphere)],
+        &[
+            ("cloth", cloth::Kind::Hanging),
+            ("cloth-paper", cloth::Kind::Paper),
+            ("cloth-sphere", cloth::Kind::Sphere),
+            ("cloth-free", cloth::Kind::Free),
+        ],
     )?;
     cloth::build(kind, opts)
 }

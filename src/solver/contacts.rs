@@ -9,35 +9,40 @@ use super::Particles;
 
 /// Projects every free particle out of the scene's colliders.
 pub(crate) fn project_contacts<V: Vector>(scene: &Scene, p: &mut Particles<V>) {
+    for i in 0..p.len() {
+        if p.w[i] > V::S::zero() {
+            p.x[i] = project_particle(scene, p.x[i], p.x_prev[i]);
+        }
+    }
+}
+
+/// A free particle at `x` (start of substep `x_prev`) projected out of the ground, then out of
+/// each sphere.
+#[inline]
+pub(crate) fn project_particle<V: Vector>(scene: &Scene, mut x: V, x_prev: V) -> V {
     let offset: V::S = scene.contact_offset.into();
     let zero = V::S::zero();
-    for i in 0..p.len() {
-        if p.w[i] <= zero {
-            continue;
+    if let Some(g) = scene.ground {
+        let floor = <V::S as From<f32>>::from(g.height) + offset;
+        let y = x.get(1);
+        if y < floor {
+            let n = V::new(zero, V::S::one(), zero);
+            x += n * (floor - y);
+            x = friction(x, x_prev, n, floor - y, g.friction.into());
         }
-        let mut x = p.x[i];
-        if let Some(g) = scene.ground {
-            let floor = <V::S as From<f32>>::from(g.height) + offset;
-            let y = x.get(1);
-            if y < floor {
-                let n = V::new(zero, V::S::one(), zero);
-                x += n * (floor - y);
-                x = friction(x, p.x_prev[i], n, floor - y, g.friction.into());
-            }
-        }
-        for s in &scene.spheres {
-            let c = V::from_vec3(s.center);
-            let r = <V::S as From<f32>>::from(s.radius) + offset;
-            let d = x - c;
-            let len = d.length();
-            if len < r && len > V::S::epsilon() {
-                let n = d * (V::S::one() / len);
-                x += n * (r - len);
-                x = friction(x, p.x_prev[i], n, r - len, s.friction.into());
-            }
-        }
-        p.x[i] = x;
     }
+    for s in &scene.spheres {
+        let c = V::from_vec3(s.center);
+        let r = <V::S as From<f32>>::from(s.radius) + offset;
+        let d = x - c;
+        let len = d.length();
+        if len < r && len > V::S::epsilon() {
+            let n = d * (V::S::one() / len);
+            x += n * (r - len);
+            x = friction(x, x_prev, n, r - len, s.friction.into());
+        }
+    }
+    x
 }
 
 #[inline]

@@ -1,20 +1,52 @@
 //! The CPU reference solver, generic over precision (`f32` at run time, `f64` for references).
 
-use crate::constraints::{Element, gather};
+use glam::Vec3;
+
+use crate::constraints::{Element, Form, gather};
 use crate::math::prelude::*;
+use crate::metrics;
 use crate::scene::{Family, Scene};
 
-use super::contacts::project_contacts;
+use super::contacts::{project_contacts, project_particle};
+use super::energy::{EnergyAware, global_scale, local_constraint};
 use super::jacobi;
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
-use crate::metrics;
 
-/// Per-family solver state: one multiplier per constraint, and Jacobi's per-constraint scale.
+/// Per-family solver state: one multiplier per constraint, Jacobi's per-constraint scale, and
+/// the local mode's energy at the start of the substep.
 #[derive(Clone, Debug, Default)]
 struct FamilyState<S> {
     lambda: Vec<S>,
     jacobi_scale: Vec<S>,
+    energy_start: Vec<S>,
+}
+
+/// The local mode's snapshots of the positions at the start of the current and the previous
+/// iteration (allocated only in that mode).
+#[derive(Clone, Debug, Default)]
+struct LocalState<V> {
+    current: Vec<V>,
+    previous: Vec<V>,
+}
+
+/// Energy bookkeeping (SPEC §4 and §7), in `f64`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EnergyLedger {
+    /// Work of physical dissipation since the start (J, ≤ 0): velocity damping and the final
+    /// contact pass of every substep.
+    pub dissipated: f64,
+    /// `H₀` carried to the next substep by the global balance (J).
+    pub carried: Option<f64>,
+    /// The last global velocity scale `σ`.
+    pub last_scale: f64,
+}
+
+/// Read-only context of the local mode for one family.
+struct LocalCtx<'a, V: Vector> {
+    current: &'a [V],
+    previous: &'a [V],
+    energy_start: &'a [V::S],
 }
 
 /// The CPU reference solver: owns a scene and the particle state simulated from it.
@@ -28,6 +60,10 @@ pub struct CpuSolver<V: Vector> {
     /// Jacobi's position corrections (allocated on first Jacobi step).
     dx: Vec<V>,
     jacobi_omega: Option<f32>,
+    local: Option<LocalState<V>>,
+    /// Energy bookkeeping.
+    pub ledger: EnergyLedger,
+    rest_com: Vec3,
     /// Constants of the last substep run (for residuals).
     last: Option<StepConstants<V::S>>,
 }
@@ -35,13 +71,16 @@ pub struct CpuSolver<V: Vector> {
 impl<V: Vector> CpuSolver<V> {
     /// A solver at the scene's initial state.
     pub fn new(scene: Scene) -> Self {
-        let state = |n: usize| FamilyState { lambda: vec![V::S::zero(); n], jacobi_scale: Vec::new() };
+        let state = |n: usize| FamilyState { lambda: vec![V::S::zero(); n], ..FamilyState::default() };
         CpuSolver {
             particles: Particles::from_scene(&scene),
             springs: state(scene.springs.as_ref().map_or(0, Family::len)),
             bends: state(scene.bends.as_ref().map_or(0, Family::len)),
             dx: Vec::new(),
             jacobi_omega: None,
+            local: None,
+            ledger: EnergyLedger { last_scale: 1.0, ..EnergyLedger::default() },
+            rest_com: scene.rest_center_of_mass(),
             last: None,
             scene,
         }
@@ -63,32 +102,103 @@ impl<V: Vector> CpuSolver<V> {
         if s.method == Method::Jacobi {
             self.prepare_jacobi(s.jacobi_omega);
         }
+        if s.energy_aware == EnergyAware::Local && self.local.is_none() {
+            let n = self.particles.len();
+            self.local = Some(LocalState { current: vec![V::ZERO; n], previous: vec![V::ZERO; n] });
+        }
+        if s.energy_aware != EnergyAware::Global {
+            self.ledger.carried = None;
+        }
         for _ in 0..s.substeps {
             self.substep(s, &k);
         }
         self.last = Some(k);
     }
 
+    /// Kinetic + gravitational + elastic energy of the current state (J).
+    pub fn total_energy(&self) -> f64 {
+        let p = &self.particles;
+        metrics::kinetic(&p.v, &p.w) + self.potential_energy()
+    }
+
+    /// Gravitational (from the rest centre of mass) + elastic energy (J).
+    pub fn potential_energy(&self) -> f64 {
+        let p = &self.particles;
+        metrics::gravitational_about(self.scene.gravity, self.rest_com, &p.x, &p.w)
+            + metrics::elastic_energy(&self.scene, &p.x)
+    }
+
     fn substep(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+        let global = s.energy_aware == EnergyAware::Global;
+        let h0 = if global { Some(self.ledger.carried.unwrap_or_else(|| self.total_energy())) } else { None };
         self.predict(k.h);
         self.springs.lambda.fill(V::S::zero());
         self.bends.lambda.fill(V::S::zero());
-        for _ in 0..s.iterations {
+        let local = s.energy_aware == EnergyAware::Local;
+        if local {
+            self.begin_local(k);
+        }
+        for iteration in 0..s.iterations {
+            if local && iteration > 0 {
+                if let Some(l) = &mut self.local {
+                    std::mem::swap(&mut l.previous, &mut l.current);
+                    l.current.copy_from_slice(&self.particles.x);
+                }
+            }
             match s.method {
                 Method::GaussSeidel => {
+                    let l = self.local.as_ref().filter(|_| local);
                     if let Some(f) = &self.scene.springs {
-                        gauss_seidel(f, &mut self.springs.lambda, &mut self.particles, k);
+                        let ctx = l.map(|l| local_ctx(l, &self.springs.energy_start));
+                        gauss_seidel(f, &mut self.springs.lambda, &mut self.particles, k, ctx);
                     }
                     if let Some(f) = &self.scene.bends {
-                        gauss_seidel(f, &mut self.bends.lambda, &mut self.particles, k);
+                        let ctx = l.map(|l| local_ctx(l, &self.bends.energy_start));
+                        gauss_seidel(f, &mut self.bends.lambda, &mut self.particles, k, ctx);
                     }
                 }
-                Method::Jacobi => self.jacobi_iteration(k),
+                Method::Jacobi => self.jacobi_iteration(k, local),
             }
             project_contacts(&self.scene, &mut self.particles);
         }
-        project_contacts(&self.scene, &mut self.particles);
-        self.update_velocities(k.h, s.damping.into());
+        let work = self.finish(k.h, s.damping.into());
+        self.ledger.dissipated += work;
+        if let Some(h0) = h0 {
+            self.balance(h0, work);
+        }
+    }
+
+    /// The global balance: scales free velocities by `σ` and carries `H₀` to the next substep.
+    fn balance(&mut self, h0: f64, work: f64) {
+        let p = &mut self.particles;
+        let k1 = metrics::kinetic(&p.v, &p.w);
+        let p1 = self.potential_energy();
+        let sigma = global_scale(h0, work, k1, p1);
+        if sigma != 1.0 {
+            let sv = V::S::from_f64(sigma);
+            let p = &mut self.particles;
+            for i in 0..p.len() {
+                if p.w[i] > V::S::zero() {
+                    p.v[i] = p.v[i] * sv;
+                }
+            }
+        }
+        self.ledger.carried = Some(sigma * sigma * k1 + p1);
+        self.ledger.last_scale = sigma;
+    }
+
+    /// Snapshots and start energies of the local mode.
+    fn begin_local(&mut self, k: &StepConstants<V::S>) {
+        let Some(l) = &mut self.local else { return };
+        l.previous.copy_from_slice(&self.particles.x_prev);
+        l.current.copy_from_slice(&self.particles.x);
+        let x_prev = &self.particles.x_prev;
+        if let Some(f) = &self.scene.springs {
+            self.springs.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
+        }
+        if let Some(f) = &self.scene.bends {
+            self.bends.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
+        }
     }
 
     fn predict(&mut self, h: V::S) {
@@ -105,13 +215,30 @@ impl<V: Vector> CpuSolver<V> {
         }
     }
 
-    fn update_velocities(&mut self, h: V::S, damping: V::S) {
+    /// The final contact pass and the velocity update; returns the work of physical dissipation
+    /// `W` (J, ≤ 0 for losses): the kinetic energy the contact pass and the velocity damping
+    /// changed, with velocities `(x − x_prev)/h` before and after the pass.
+    fn finish(&mut self, h: V::S, damping: V::S) -> f64 {
         let keep = (V::S::one() - damping * h).max(V::S::zero());
         let inv_h = V::S::one() / h;
+        let (keep64, inv_h64) = (keep.to_f64(), inv_h.to_f64());
         let p = &mut self.particles;
+        let mut work = 0.0f64;
         for i in 0..p.len() {
-            p.v[i] = if p.w[i] > V::S::zero() { (p.x[i] - p.x_prev[i]) * (inv_h * keep) } else { V::ZERO };
+            if p.w[i] > V::S::zero() {
+                let before = p.x[i];
+                p.x[i] = project_particle(&self.scene, before, p.x_prev[i]);
+                let m = 1.0 / p.w[i].to_f64();
+                let vb = (before.to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
+                let va = (p.x[i].to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
+                work += 0.5 * m * (va.length_squared() - vb.length_squared());
+                work += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
+                p.v[i] = (p.x[i] - p.x_prev[i]) * (inv_h * keep);
+            } else {
+                p.v[i] = V::ZERO;
+            }
         }
+        work
     }
 
     fn prepare_jacobi(&mut self, omega: f32) {
@@ -130,13 +257,16 @@ impl<V: Vector> CpuSolver<V> {
         self.dx = vec![V::ZERO; self.particles.len()];
     }
 
-    fn jacobi_iteration(&mut self, k: &StepConstants<V::S>) {
+    fn jacobi_iteration(&mut self, k: &StepConstants<V::S>, local: bool) {
         self.dx.fill(V::ZERO);
+        let l = self.local.as_ref().filter(|_| local);
         if let Some(f) = &self.scene.springs {
-            jacobi(f, &mut self.springs, &self.particles, &mut self.dx, k);
+            let ctx = l.map(|l| local_ctx(l, &self.springs.energy_start));
+            jacobi(f, &mut self.springs.lambda, &self.springs.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
         }
         if let Some(f) = &self.scene.bends {
-            jacobi(f, &mut self.bends, &self.particles, &mut self.dx, k);
+            let ctx = l.map(|l| local_ctx(l, &self.bends.energy_start));
+            jacobi(f, &mut self.bends.lambda, &self.bends.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
         }
         for (x, d) in self.particles.x.iter_mut().zip(&self.dx) {
             *x += *d;
@@ -166,21 +296,81 @@ impl<V: Vector> CpuSolver<V> {
     }
 }
 
+fn local_ctx<'a, V: Vector>(l: &'a LocalState<V>, energy_start: &'a [V::S]) -> LocalCtx<'a, V> {
+    LocalCtx { current: &l.current, previous: &l.previous, energy_start }
+}
+
+/// Material energy of each element at `x` (the local mode's `E_j(x_start)`), computed the way
+/// the projection sees it: `C` in the energy form, `C²/(2α)` in the compliant form.
+fn start_energies<E: Element<N>, V: Vector, const N: usize>(
+    f: &Family<E, N>,
+    x: &[V],
+    form: Form,
+    energy_compliance: V::S,
+) -> Vec<V::S> {
+    f.elements
+        .iter()
+        .map(|e| {
+            let p = e.constraint(&f.params, &gather(x, e.particles()), form, energy_compliance);
+            projected_energy(p.c, p.alpha, form)
+        })
+        .collect()
+}
+
+/// The material energy of a constraint from its projection: `C` (energy form) or `C²/(2α)`.
+#[inline(always)]
+fn projected_energy<S: Real>(c_val: S, alpha: S, form: Form) -> S {
+    match form {
+        Form::Energy => c_val,
+        Form::Compliant => c_val * c_val / (alpha + alpha),
+    }
+}
+
+/// The local mode's `C̃` for element `j` with particles `idx` at the live positions `xs`.
+#[inline(always)]
+fn local_adjusted<V: Vector, const N: usize>(
+    l: &LocalCtx<'_, V>,
+    j: usize,
+    idx: [u32; N],
+    xs: &[V; N],
+    ws: &[V::S; N],
+    k: &StepConstants<V::S>,
+    c_val: V::S,
+    alpha: V::S,
+) -> V::S {
+    let mut kinetic = V::S::zero();
+    for n in 0..N {
+        if ws[n] > V::S::zero() {
+            let i = idx[n] as usize;
+            let now = (xs[n] - l.current[i]).length_squared();
+            let before = (l.current[i] - l.previous[i]).length_squared();
+            kinetic += (now - before) / ws[n];
+        }
+    }
+    let r = c::<V::S>(0.5) * kinetic * k.inv_h2 + (projected_energy(c_val, alpha, k.form) - l.energy_start[j]);
+    local_constraint(c_val, alpha, r, k.form)
+}
+
 /// One Gauss-Seidel sweep over a family's color groups, in order.
 fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
+    local: Option<LocalCtx<'_, V>>,
 ) {
     let lambda = &mut lambda[..f.elements.len()];
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
-        for (e, l) in f.elements[lo..hi].iter().zip(&mut lambda[lo..hi]) {
+        for (j, (e, l)) in f.elements[lo..hi].iter().zip(&mut lambda[lo..hi]).enumerate() {
             let idx = e.particles();
             let xs = gather(&p.x, idx);
             let ws = idx.map(|i| p.w[i as usize]);
-            if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, *l, k) {
+            let adjust = |c_val, alpha| match &local {
+                Some(ctx) => local_adjusted(ctx, lo + j, idx, &xs, &ws, k, c_val, alpha),
+                None => c_val,
+            };
+            if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, *l, k, adjust) {
                 *l += d;
                 for n in 0..N {
                     p.x[idx[n] as usize] = xs[n] + grad[n] * (ws[n] * d);
@@ -193,18 +383,24 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 /// One Jacobi pass over a family: corrections accumulate into `dx`, scaled per constraint.
 fn jacobi<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
-    st: &mut FamilyState<V::S>,
+    lambda: &mut [V::S],
+    scale: &[V::S],
     p: &Particles<V>,
     dx: &mut [V],
     k: &StepConstants<V::S>,
+    local: Option<LocalCtx<'_, V>>,
 ) {
     for (j, e) in f.elements.iter().enumerate() {
         let idx = e.particles();
         let xs = gather(&p.x, idx);
         let ws = idx.map(|i| p.w[i as usize]);
-        if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, st.lambda[j], k) {
-            let d = d * st.jacobi_scale[j];
-            st.lambda[j] += d;
+        let adjust = |c_val, alpha| match &local {
+            Some(ctx) => local_adjusted(ctx, j, idx, &xs, &ws, k, c_val, alpha),
+            None => c_val,
+        };
+        if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, lambda[j], k, adjust) {
+            let d = d * scale[j];
+            lambda[j] += d;
             for n in 0..N {
                 dx[idx[n] as usize] += grad[n] * (ws[n] * d);
             }

@@ -7,15 +7,18 @@
 //!    increasing color (Gauss-Seidel)
 //!    or every constraint against the same iterate (Jacobi); then the contact projection;
 //! 4. the final contact pass;
-//! 5. `v = (x − x_prev) / h`, then `v ← v (1 − β_v h)`.
+//! 5. `v = (x − x_prev) / h`, then `v ← v (1 − β_v h)`;
+//! 6. with `--energy-aware global`, the energy balance of [`energy`] scales the velocities.
 
 mod contacts;
 mod cpu;
+pub mod energy;
 pub mod jacobi;
 mod particles;
 mod xpbd;
 
 pub use cpu::CpuSolver;
+pub use energy::EnergyAware;
 pub use particles::Particles;
 pub use xpbd::{StepConstants, delta_lambda, residual};
 
@@ -68,6 +71,10 @@ pub struct Settings {
     pub constraint_damping: f32,
     /// Compliance `α` of the energy form (the paper's author used 1e-5).
     pub energy_compliance: f32,
+    /// The energy-aware setting (SPEC §4).
+    pub energy_aware: EnergyAware,
+    /// Successive over-relaxation `ω`: every `Δλ` is scaled by it (1 = plain).
+    pub sor: f32,
 }
 
 impl Default for Settings {
@@ -82,6 +89,8 @@ impl Default for Settings {
             damping: 0.0,
             constraint_damping: 0.0,
             energy_compliance: 1.0e-5,
+            energy_aware: EnergyAware::Off,
+            sor: 1.0,
         }
     }
 }
@@ -112,6 +121,9 @@ impl Settings {
         }
         if !(self.constraint_damping.is_finite() && self.constraint_damping >= 0.0) {
             return Err(Error::param("--constraint-damping", self.constraint_damping, "must be finite and ≥ 0 (s)"));
+        }
+        if !(finite_pos(self.sor) && self.sor < 2.0) {
+            return Err(Error::param("--sor", self.sor, "must be in (0, 2)"));
         }
         if !(finite_pos(self.energy_compliance)) {
             return Err(Error::param("--energy-compliance", self.energy_compliance, "must be positive and finite"));

@@ -18,6 +18,8 @@ pub struct StepConstants<S: Real> {
     pub form: Form,
     /// Compliance of the energy form.
     pub energy_compliance: S,
+    /// Over-relaxation `ω` applied to every `Δλ`.
+    pub sor: S,
 }
 
 impl<S: Real> StepConstants<S> {
@@ -31,6 +33,7 @@ impl<S: Real> StepConstants<S> {
             beta: s.constraint_damping.into(),
             form: s.form,
             energy_compliance: s.energy_compliance.into(),
+            sor: s.sor.into(),
         }
     }
 }
@@ -58,7 +61,9 @@ pub fn delta_lambda<S: Real>(
 }
 
 /// One element's update, computed from gathered positions `xs` and inverse masses `ws`:
-/// the gradient and `Δλ` (unscaled), or `None` when it is skipped this iteration.
+/// the gradient and `Δλ` (times the over-relaxation `ω`, before any Jacobi scale), or `None`
+/// when it is skipped this iteration. `adjust` may replace the constraint value (the local
+/// energy-aware mode); it receives `C` and `α` and returns the value to use.
 #[inline(always)]
 pub(crate) fn solve_element<E: Element<N>, V: Vector, const N: usize>(
     e: &E,
@@ -68,8 +73,10 @@ pub(crate) fn solve_element<E: Element<N>, V: Vector, const N: usize>(
     x_prev: &[V],
     lambda: V::S,
     k: &StepConstants<V::S>,
+    adjust: impl FnOnce(V::S, V::S) -> V::S,
 ) -> Option<([V; N], V::S)> {
-    let proj = e.constraint(params, xs, k.form, k.energy_compliance);
+    let mut proj = e.constraint(params, xs, k.form, k.energy_compliance);
+    proj.c = adjust(proj.c, proj.alpha);
     let alpha_tilde = proj.alpha * k.inv_h2;
     let mut sum = V::S::zero();
     for n in 0..N {
@@ -86,7 +93,7 @@ pub(crate) fn solve_element<E: Element<N>, V: Vector, const N: usize>(
     } else {
         (V::S::zero(), V::S::zero())
     };
-    delta_lambda(proj.c, sum, alpha_tilde, lambda, gamma, gdx).map(|d| (proj.grad, d))
+    delta_lambda(proj.c, sum, alpha_tilde, lambda, gamma, gdx).map(|d| (proj.grad, d * k.sor))
 }
 
 /// The XPBD residual `|C + α̃λ|` of element `e` at the positions in `p`.
