@@ -139,11 +139,12 @@ impl<V: Vector> CpuSolver<V> {
             self.begin_local(k);
         }
         for iteration in 0..s.iterations {
-            if local && iteration > 0 {
-                if let Some(l) = &mut self.local {
-                    std::mem::swap(&mut l.previous, &mut l.current);
-                    l.current.copy_from_slice(&self.particles.x);
-                }
+            if local
+                && iteration > 0
+                && let Some(l) = &mut self.local
+            {
+                std::mem::swap(&mut l.previous, &mut l.current);
+                l.current.copy_from_slice(&self.particles.x);
             }
             match s.method {
                 Method::GaussSeidel => {
