@@ -9,8 +9,9 @@ use std::sync::Arc;
 
 use eapbd::constraints::{Form, SpringMaterial};
 use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
+use eapbd::metrics::FrameStats;
 use eapbd::scene::{self, SceneOptions};
-use eapbd::solver::{CpuSolver, Method, Settings};
+use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
 use glam::Vec3;
 
 fn context() -> GpuContext {
@@ -119,4 +120,87 @@ fn paper_cloth_matches_the_cpu_before_it_crumples() {
     let kernels = Arc::new(Kernels::new(&ctx.device));
     let (d, _) = compare(&ctx, &kernels, "cloth-paper", SceneOptions::default(), &Settings::default(), 20);
     assert!(d < 1e-5, "cloth-paper: GPU and CPU differ by {d:.3e} m after 20 frames");
+}
+
+/// Like [`compare`], but also runs the CPU with one particle moved by 1e-6 m: where the
+/// setting makes the motion sensitive (the local mode's switch between `C̃` and `C` flips on
+/// rounding), the GPU must stay within ten times the CPU's own spread. Returns the worst ratio
+/// `d_gpu / (10 d_self + TOLERANCE)` over the checkpoints, and the largest `d_gpu`.
+fn compare_sensitive(
+    ctx: &GpuContext,
+    kernels: &Arc<Kernels>,
+    opts: SceneOptions,
+    s: &Settings,
+    frames: u32,
+) -> (f32, f32) {
+    let sc = scene::build("cloth", &opts).unwrap();
+    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
+    let mut perturbed = CpuSolver::<Vec3>::new(sc.clone());
+    perturbed.particles.x[sc.num_particles() / 2].x += 1e-6;
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
+    let dist = |a: &[Vec3], b: &[Vec3]| a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max);
+    let (mut ratio, mut worst) = (0.0f32, 0.0f32);
+    for frame in 1..=frames {
+        cpu.step_frame(s);
+        perturbed.step_frame(s);
+        gpu.step_frame(s);
+        if frame == 1 || frame % 20 == 0 {
+            let d = dist(&cpu.particles.x, &gpu.read_positions().unwrap());
+            let d_self = dist(&cpu.particles.x, &perturbed.particles.x);
+            assert!(d.is_finite(), "non-finite at frame {frame}");
+            ratio = ratio.max(d / (10.0 * d_self + TOLERANCE));
+            worst = worst.max(d);
+        }
+    }
+    (ratio, worst)
+}
+
+#[test]
+fn energy_aware_settings_match_the_cpu() {
+    // Every energy-aware setting and SOR, with both iterations, on a 21×21 cloth with bending.
+    let ctx = context();
+    let kernels = Arc::new(Kernels::new(&ctx.device));
+    let opts = SceneOptions { resolution: Some(21), stiffness: 1000.0, ..SceneOptions::default() };
+    for (energy_aware, sor) in
+        [(EnergyAware::Local, 1.0), (EnergyAware::Global, 1.0), (EnergyAware::Off, 1.5), (EnergyAware::Global, 1.5)]
+    {
+        for method in [Method::GaussSeidel, Method::Jacobi] {
+            for form in [Form::Compliant, Form::Energy] {
+                let s = Settings { energy_aware, sor, method, form, iterations: 20, ..Settings::default() };
+                let (ratio, d) = compare_sensitive(&ctx, &kernels, opts, &s, 120);
+                println!("{energy_aware:?} sor {sor} {method:?} {form:?}: max distance {d:.3e} m, ratio {ratio:.3}");
+                assert!(ratio < 1.0, "{energy_aware:?} sor {sor} {method:?} {form:?}: GPU and CPU differ by {d:.3e} m");
+            }
+        }
+    }
+}
+
+#[test]
+fn gpu_energies_match_the_cpu() {
+    // The GPU's reduction (f32, two levels) against the CPU's f64 sums, on the damped cloth
+    // resting on a sphere (contacts and damping dissipate work) under the global balance.
+    let ctx = context();
+    let kernels = Arc::new(Kernels::new(&ctx.device));
+    let sc = scene::build("cloth-sphere", &SceneOptions { resolution: Some(21), ..SceneOptions::default() }).unwrap();
+    let s = Settings { damping: 0.5, energy_aware: EnergyAware::Global, ..Settings::default() };
+    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
+    for frame in 1..=60 {
+        cpu.step_frame(&s);
+        gpu.step_frame(&s);
+        if frame % 15 == 0 {
+            let c = FrameStats::measure(&cpu, frame, 0.0);
+            let g = gpu.energies().unwrap();
+            let scale = c.total().abs().max(1e-3);
+            for (name, a, b) in [
+                ("kinetic", c.kinetic, g.kinetic),
+                ("gravitational", c.gravitational, g.gravitational),
+                ("elastic", c.elastic, g.elastic),
+                ("dissipated", c.dissipated, g.dissipated),
+            ] {
+                println!("frame {frame} {name}: CPU {a:.6e} J, GPU {b:.6e} J");
+                assert!((a - b).abs() < 1e-3 * scale, "frame {frame} {name}: CPU {a:.6e} J, GPU {b:.6e} J");
+            }
+        }
+    }
 }

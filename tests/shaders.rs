@@ -41,7 +41,8 @@ fn every_wgsl_file_is_in_a_module() {
 #[test]
 fn gpu_structs_match_their_wgsl_sizes() {
     // Sizes of the host structs, mirrored in shaders/common/types.wgsl and the solver kernels.
-    assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 80);
+    assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 112);
+    assert_eq!(std::mem::size_of::<eapbd::gpu::GpuLedger>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::gpu::DispatchRange>(), 16);
     assert_eq!(std::mem::size_of::<eapbd::gpu::GpuSphere>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Spring>(), 16);
@@ -51,7 +52,8 @@ fn gpu_structs_match_their_wgsl_sizes() {
     layouter.update(module.to_ctx()).unwrap();
     for (handle, ty) in module.types.iter() {
         let expected = match ty.name.as_deref() {
-            Some("SimParams") => 80,
+            Some("SimParams") => 112,
+            Some("Ledger") => 32,
             Some("DispatchRange") => 16,
             Some("Sphere") => 32,
             Some("Spring") => 16,

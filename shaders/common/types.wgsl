@@ -4,6 +4,8 @@
 struct SimParams {
     // xyz: gravity (m/s²); w: unused.
     gravity: vec4<f32>,
+    // xyz: the rest centre of mass (m), the reference of gravitational energy in the balance.
+    rest_com: vec4<f32>,
     // Substep h (s), 1/h, 1/h², constraint damping β (s).
     h: f32,
     inv_h: f32,
@@ -20,12 +22,41 @@ struct SimParams {
     ground_friction: f32,
     has_ground: u32,
     num_spheres: u32,
-    // Distance kept from colliders (m), number of particles.
+    // Distance kept from colliders (m), number of particles, springs and bending elements.
     contact_offset: f32,
     num_particles: u32,
+    num_springs: u32,
+    num_bends: u32,
+    // Over-relaxation ω applied to every Δλ.
+    sor: f32,
     pad0: u32,
     pad1: u32,
+    pad2: u32,
 }
+
+// The energy ledger (one per scene), written by the reduction's final kernel.
+struct Ledger {
+    // Energy at the start of the next substep (J), whether it is set, the last velocity scale σ,
+    // and the cumulative dissipated work at the last balance (J).
+    h0: f32,
+    valid: u32,
+    sigma: f32,
+    work_mark: f32,
+    // The last measurement: kinetic, gravitational (about the rest centre of mass), elastic,
+    // and cumulative dissipated work (J).
+    kinetic: f32,
+    gravitational: f32,
+    elastic: f32,
+    work: f32,
+}
+
+// Slots of the reduction's per-workgroup partial sums (x kinetic, y gravitational, z elastic,
+// w work): particles, springs, bending; at most REDUCE_GROUPS workgroups each.
+const REDUCE_GROUPS: u32 = 256u;
+const PARTIAL_PARTICLES: u32 = 0u;
+const PARTIAL_SPRINGS: u32 = 256u;
+const PARTIAL_BENDS: u32 = 512u;
+const PARTIAL_SLOTS: u32 = 768u;
 
 // One dispatch's slice of a family (a color group, or all of it for Jacobi), bound with a
 // dynamic offset. slot_base: first Jacobi correction slot of the family.
@@ -66,7 +97,52 @@ fn delta_lambda(c: f32, sum_w_grad2: f32, alpha_tilde: f32, lambda: f32, gamma: 
     if (!(denom > EPSILON)) {
         return vec2<f32>(0.0, 0.0);
     }
-    return vec2<f32>((-c - alpha_tilde * lambda - gamma * grad_dot_dx) / denom, 1.0);
+    return vec2<f32>(((-c - alpha_tilde * lambda - gamma * grad_dot_dx) / denom) * params.sor, 1.0);
+}
+
+// The material energy of a constraint from its projection (mirrors solver::cpu): C in the
+// energy form, C²/(2α) in the compliant form.
+fn projected_energy(c: f32, alpha: f32) -> f32 {
+    if (params.form == FORM_ENERGY) {
+        return c;
+    }
+    return c * c / (alpha + alpha);
+}
+
+// The local energy-aware mode's C̃ (mirrors solver::energy::local_constraint).
+fn local_constraint(c: f32, alpha: f32, r: f32) -> f32 {
+    if (params.form == FORM_ENERGY) {
+        if (abs(r) <= abs(c)) {
+            return c + r;
+        }
+        return c;
+    }
+    let two_alpha = alpha + alpha;
+    let c2 = c * c;
+    if (two_alpha > 0.0 && abs(r) * two_alpha <= c2) {
+        let m = sqrt(max(c2 + two_alpha * r, 0.0));
+        if (c < 0.0) {
+            return -m;
+        }
+        return m;
+    }
+    return c;
+}
+
+// Workgroup tree reduction of one vec4 per invocation (64 invocations); returns the sum in
+// invocation 0.
+var<workgroup> scratch: array<vec4<f32>, 64>;
+
+fn reduce_workgroup(lid: u32, value: vec4<f32>) -> vec4<f32> {
+    scratch[lid] = value;
+    workgroupBarrier();
+    for (var s = 32u; s > 0u; s = s >> 1u) {
+        if (lid < s) {
+            scratch[lid] = scratch[lid] + scratch[lid + s];
+        }
+        workgroupBarrier();
+    }
+    return scratch[0];
 }
 
 // The stride of a grid-stride loop over `range.count` items.

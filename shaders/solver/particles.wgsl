@@ -7,17 +7,26 @@
 @group(1) @binding(1) var<storage, read> incidence_offsets: array<u32>;
 @group(1) @binding(2) var<storage, read> incidence_slots: array<u32>;
 
+// Local energy-aware mode: snapshots ([0, n) this iteration's start, [n, 2n) the previous one).
+@group(3) @binding(0) var<storage, read_write> snapshots: array<vec4<f32>>;
+// Energy reduction: per-workgroup partial sums and the ledger.
+@group(3) @binding(2) var<storage, read_write> partials: array<vec4<f32>>;
+@group(3) @binding(3) var<storage, read_write> ledger: Ledger;
+
+// The velocities' w component accumulates each particle's dissipated work (J).
+
 @compute @workgroup_size(64)
 fn predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
         let p = x[i];
         x_prev[i] = p;
         if (p.w > 0.0) {
-            let vel = v[i].xyz + params.gravity.xyz * params.h;
-            v[i] = vec4<f32>(vel, 0.0);
+            let old = v[i];
+            let vel = old.xyz + params.gravity.xyz * params.h;
+            v[i] = vec4<f32>(vel, old.w);
             x[i] = vec4<f32>(p.xyz + vel * params.h, p.w);
         } else {
-            v[i] = vec4<f32>(0.0);
+            v[i] = vec4<f32>(0.0, 0.0, 0.0, v[i].w);
         }
     }
 }
@@ -70,16 +79,138 @@ fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     }
 }
 
-// The final contact pass, then v = (x − x_prev)/h · keep.
+// The final contact pass, then v = (x − x_prev)/h · keep; the kinetic energy the pass and the
+// damping changed is added to the particle's dissipated work (mirrors CpuSolver::finish).
 @compute @workgroup_size(64)
 fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        let before = x[i].xyz;
         project_contacts(i);
         let p = x[i];
+        let old = v[i];
         if (p.w > 0.0) {
-            v[i] = vec4<f32>((p.xyz - x_prev[i].xyz) * (params.inv_h * params.keep), 0.0);
+            let prev = x_prev[i].xyz;
+            let m = 1.0 / p.w;
+            let vb = (before - prev) * params.inv_h;
+            let va = (p.xyz - prev) * params.inv_h;
+            let va2 = dot(va, va);
+            let work = 0.5 * m * (va2 - dot(vb, vb)) + 0.5 * m * va2 * (params.keep * params.keep - 1.0);
+            v[i] = vec4<f32>((p.xyz - prev) * (params.inv_h * params.keep), old.w + work);
         } else {
-            v[i] = vec4<f32>(0.0);
+            v[i] = vec4<f32>(0.0, 0.0, 0.0, old.w);
+        }
+    }
+}
+
+// Local mode, start of a substep: the snapshots are the substep's start and the prediction.
+@compute @workgroup_size(64)
+fn local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        snapshots[params.num_particles + i] = x_prev[i];
+        snapshots[i] = x[i];
+    }
+}
+
+// Local mode, start of an iteration after the first: shift the snapshots.
+@compute @workgroup_size(64)
+fn local_snapshot(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        snapshots[params.num_particles + i] = snapshots[i];
+        snapshots[i] = x[i];
+    }
+}
+
+// Partial sums of kinetic and gravitational energy (about the rest centre of mass) and of the
+// dissipated work, over free particles.
+@compute @workgroup_size(64)
+fn energy_particles(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) ng: vec3<u32>,
+) {
+    var acc = vec4<f32>(0.0);
+    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        let p = x[i];
+        let vel = v[i];
+        if (p.w > 0.0) {
+            let m = 1.0 / p.w;
+            acc.x += 0.5 * m * dot(vel.xyz, vel.xyz);
+            acc.y += -m * dot(params.gravity.xyz, p.xyz - params.rest_com.xyz);
+        }
+        acc.w += vel.w;
+    }
+    let total = reduce_workgroup(lid.x, acc);
+    if (lid.x == 0u) {
+        partials[PARTIAL_PARTICLES + wid.x] = total;
+    }
+}
+
+fn reduce_count(n: u32) -> u32 {
+    return min((n + 63u) / 64u, REDUCE_GROUPS);
+}
+
+// The GPU's band of rounding for the balance (f32 sums; the CPU uses 1e-6 with f64 sums).
+const GPU_ROUNDING: f32 = 1e-5;
+
+// The global balance's σ (mirrors solver::energy::global_scale).
+fn global_scale(h0: f32, work: f32, k1: f32, p1: f32) -> f32 {
+    let goal = h0 + work - p1;
+    let band = GPU_ROUNDING * (abs(h0) + abs(work) + abs(k1) + abs(p1));
+    if (k1 < 1e-6 * abs(h0) || k1 <= 0.0 || abs(goal - k1) <= band) {
+        return 1.0;
+    }
+    return clamp(sqrt(max(goal, 0.0) / k1), 0.9, 1.1);
+}
+
+// Sums the partials; range.start selects what to do with the totals: 0 sets the energy at the
+// start of the next substep, 1 runs the global balance, 2 only measures.
+@compute @workgroup_size(64)
+fn energy_final(@builtin(local_invocation_id) lid: vec3<u32>) {
+    var acc = vec4<f32>(0.0);
+    let np = reduce_count(params.num_particles);
+    let ns = reduce_count(params.num_springs);
+    let nb = reduce_count(params.num_bends);
+    for (var k = lid.x; k < np; k += 64u) {
+        acc += partials[PARTIAL_PARTICLES + k];
+    }
+    for (var k = lid.x; k < ns; k += 64u) {
+        acc += partials[PARTIAL_SPRINGS + k];
+    }
+    for (var k = lid.x; k < nb; k += 64u) {
+        acc += partials[PARTIAL_BENDS + k];
+    }
+    let total = reduce_workgroup(lid.x, acc);
+    if (lid.x == 0u) {
+        let k1 = total.x;
+        let p1 = total.y + total.z;
+        ledger.kinetic = k1;
+        ledger.gravitational = total.y;
+        ledger.elastic = total.z;
+        ledger.work = total.w;
+        if (range.start == 0u) {
+            ledger.h0 = k1 + p1;
+            ledger.valid = 1u;
+            ledger.sigma = 1.0;
+            ledger.work_mark = total.w;
+        } else if (range.start == 1u) {
+            let sigma = global_scale(ledger.h0, total.w - ledger.work_mark, k1, p1);
+            ledger.sigma = sigma;
+            ledger.h0 = sigma * sigma * k1 + p1;
+            ledger.work_mark = total.w;
+        }
+    }
+}
+
+// The global balance: v ← σ v on free particles.
+@compute @workgroup_size(64)
+fn apply_scale(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    let sigma = ledger.sigma;
+    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        let p = x[i];
+        if (p.w > 0.0 && sigma != 1.0) {
+            let old = v[i];
+            v[i] = vec4<f32>(old.xyz * sigma, old.w);
         }
     }
 }

@@ -12,6 +12,13 @@ struct Spring {
 @group(1) @binding(2) var<storage, read> jacobi_scale: array<f32>;
 @group(1) @binding(3) var<storage, read_write> corr: array<vec4<f32>>;
 
+// Local energy-aware mode: position snapshots at the start of this iteration ([0, n)) and of
+// the previous one ([n, 2n)), and each spring's energy at the start of the substep.
+@group(3) @binding(0) var<storage, read> snapshots: array<vec4<f32>>;
+@group(3) @binding(1) var<storage, read_write> energy_start: array<f32>;
+// Energy reduction: per-workgroup partial sums.
+@group(3) @binding(2) var<storage, read_write> partials: array<vec4<f32>>;
+
 struct SpringProj {
     c: f32,
     // Gradient with respect to x_b (x_a gets its negative).
@@ -56,10 +63,37 @@ fn spring_constraint(s: Spring, xa: vec3<f32>, xb: vec3<f32>) -> SpringProj {
     return out;
 }
 
-// Returns vec2(Δλ, applied) for spring j against the current positions.
-fn spring_solve(j: u32, xa: vec4<f32>, xb: vec4<f32>) -> vec4<f32> {
-    let s = springs[j];
-    let p = spring_constraint(s, xa.xyz, xb.xyz);
+// Material energy of a spring (mirrors Spring::energy).
+fn spring_energy(s: Spring, xa: vec3<f32>, xb: vec3<f32>) -> f32 {
+    let d = xb - xa;
+    let len = sqrt(dot(d, d));
+    var q = len - s.rest;
+    if (params.material == MATERIAL_STVK) {
+        q = len * len - s.rest * s.rest;
+    }
+    return 0.5 * s.k * (q * q);
+}
+
+// The local mode's C̃ for spring j (mirrors solver::cpu::local_adjusted).
+fn spring_local(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>, p: SpringProj) -> f32 {
+    var kinetic = 0.0;
+    let n = params.num_particles;
+    if (xa.w > 0.0) {
+        let cur = snapshots[s.a].xyz;
+        let prev = snapshots[n + s.a].xyz;
+        kinetic += (dot(xa.xyz - cur, xa.xyz - cur) - dot(cur - prev, cur - prev)) / xa.w;
+    }
+    if (xb.w > 0.0) {
+        let cur = snapshots[s.b].xyz;
+        let prev = snapshots[n + s.b].xyz;
+        kinetic += (dot(xb.xyz - cur, xb.xyz - cur) - dot(cur - prev, cur - prev)) / xb.w;
+    }
+    let r = 0.5 * kinetic * params.inv_h2 + (projected_energy(p.c, p.alpha) - energy_start[j]);
+    return local_constraint(p.c, p.alpha, r);
+}
+
+// vec4(gradient w.r.t. x_b, Δλ), zero when skipped, for spring j with projection p.
+fn spring_update(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>, p: SpringProj) -> vec4<f32> {
     let alpha_tilde = p.alpha * params.inv_h2;
     let g2 = dot(p.g, p.g);
     let sum = xa.w * g2 + xb.w * g2;
@@ -73,6 +107,21 @@ fn spring_solve(j: u32, xa: vec4<f32>, xb: vec4<f32>) -> vec4<f32> {
     return vec4<f32>(p.g, r.x) * r.y;
 }
 
+fn gs_apply(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>, r: vec4<f32>) {
+    let d = r.w;
+    lambda[j] = lambda[j] + d;
+    x[s.a] = vec4<f32>(xa.xyz + (-r.xyz) * (xa.w * d), xa.w);
+    x[s.b] = vec4<f32>(xb.xyz + r.xyz * (xb.w * d), xb.w);
+}
+
+fn jacobi_store(j: u32, xa: vec4<f32>, xb: vec4<f32>, r: vec4<f32>) {
+    let d = r.w * jacobi_scale[j];
+    lambda[j] = lambda[j] + d;
+    let slot = range.slot_base + 2u * j;
+    corr[slot] = vec4<f32>((-r.xyz) * (xa.w * d), 0.0);
+    corr[slot + 1u] = vec4<f32>(r.xyz * (xb.w * d), 0.0);
+}
+
 @compute @workgroup_size(64)
 fn springs_gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
@@ -80,11 +129,20 @@ fn springs_gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
         let s = springs[j];
         let xa = x[s.a];
         let xb = x[s.b];
-        let r = spring_solve(j, xa, xb);
-        let d = r.w;
-        lambda[j] = lambda[j] + d;
-        x[s.a] = vec4<f32>(xa.xyz + (-r.xyz) * (xa.w * d), xa.w);
-        x[s.b] = vec4<f32>(xb.xyz + r.xyz * (xb.w * d), xb.w);
+        gs_apply(j, s, xa, xb, spring_update(j, s, xa, xb, spring_constraint(s, xa.xyz, xb.xyz)));
+    }
+}
+
+@compute @workgroup_size(64)
+fn springs_gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let s = springs[j];
+        let xa = x[s.a];
+        let xb = x[s.b];
+        var p = spring_constraint(s, xa.xyz, xb.xyz);
+        p.c = spring_local(j, s, xa, xb, p);
+        gs_apply(j, s, xa, xb, spring_update(j, s, xa, xb, p));
     }
 }
 
@@ -95,18 +153,57 @@ fn springs_jacobi(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
         let s = springs[j];
         let xa = x[s.a];
         let xb = x[s.b];
-        let r = spring_solve(j, xa, xb);
-        let d = r.w * jacobi_scale[j];
-        lambda[j] = lambda[j] + d;
-        let slot = range.slot_base + 2u * j;
-        corr[slot] = vec4<f32>((-r.xyz) * (xa.w * d), 0.0);
-        corr[slot + 1u] = vec4<f32>(r.xyz * (xb.w * d), 0.0);
+        jacobi_store(j, xa, xb, spring_update(j, s, xa, xb, spring_constraint(s, xa.xyz, xb.xyz)));
     }
 }
 
 @compute @workgroup_size(64)
+fn springs_jacobi_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let s = springs[j];
+        let xa = x[s.a];
+        let xb = x[s.b];
+        var p = spring_constraint(s, xa.xyz, xb.xyz);
+        p.c = spring_local(j, s, xa, xb, p);
+        jacobi_store(j, xa, xb, spring_update(j, s, xa, xb, p));
+    }
+}
+
+// λ = 0.
+@compute @workgroup_size(64)
 fn springs_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         lambda[range.start + t] = 0.0;
+    }
+}
+
+// Local mode: each spring's energy at the start of the substep.
+@compute @workgroup_size(64)
+fn springs_local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let s = springs[j];
+        let p = spring_constraint(s, x_prev[s.a].xyz, x_prev[s.b].xyz);
+        energy_start[j] = projected_energy(p.c, p.alpha);
+    }
+}
+
+// Partial sums of the springs' material energy.
+@compute @workgroup_size(64)
+fn springs_energy(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) ng: vec3<u32>,
+) {
+    var acc = 0.0;
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let s = springs[range.start + t];
+        acc += spring_energy(s, x[s.a].xyz, x[s.b].xyz);
+    }
+    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc, 0.0));
+    if (lid.x == 0u) {
+        partials[PARTIAL_SPRINGS + wid.x] = total;
     }
 }

@@ -28,11 +28,14 @@ impl GpuContext {
 
     /// Opens a device on a chosen adapter.
     pub fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self> {
-        let desc = wgpu::DeviceDescriptor {
-            label: Some("eapbd"),
-            required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
-            ..Default::default()
-        };
+        // Jacobi in the local energy-aware mode binds 10 storage buffers in one stage; ask for
+        // up to 16 where the adapter has them (lavapipe and desktop GPUs do).
+        let mut required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
+        required_limits.max_storage_buffers_per_shader_stage = adapter
+            .limits()
+            .max_storage_buffers_per_shader_stage
+            .clamp(required_limits.max_storage_buffers_per_shader_stage, 16);
+        let desc = wgpu::DeviceDescriptor { label: Some("eapbd"), required_limits, ..Default::default() };
         let (device, queue) = pollster::block_on(adapter.request_device(&desc))
             .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", adapter.get_info().name)))?;
         Ok(GpuContext { instance, adapter, device, queue })

@@ -20,6 +20,12 @@ pub struct Kernels {
     pub apply_layout: wgpu::BindGroupLayout,
     /// Group 2: the dispatch range (dynamic offset).
     pub range_layout: wgpu::BindGroupLayout,
+    /// Group 3 of the per-particle local-mode kernels: snapshots.
+    pub local_particles_layout: wgpu::BindGroupLayout,
+    /// Group 3 of the per-family local-mode kernels: snapshots, start energies.
+    pub local_family_layout: wgpu::BindGroupLayout,
+    /// Group 3 of the energy kernels: partial sums, ledger.
+    pub energy_layout: wgpu::BindGroupLayout,
     /// `predict`.
     pub predict: wgpu::ComputePipeline,
     /// `contacts` (inside the iteration loop).
@@ -28,19 +34,49 @@ pub struct Kernels {
     pub finish: wgpu::ComputePipeline,
     particles_module: wgpu::ShaderModule,
     jacobi_apply: OnceLock<wgpu::ComputePipeline>,
+    local: OnceLock<LocalKernels>,
+    energy: OnceLock<EnergyKernels>,
     springs: OnceLock<FamilyKernels>,
     bending: OnceLock<FamilyKernels>,
 }
 
-/// The three kernels of a constraint family.
+/// Per-particle kernels of the local energy-aware mode.
+#[derive(Debug)]
+pub struct LocalKernels {
+    /// Snapshots at the start of a substep.
+    pub begin: wgpu::ComputePipeline,
+    /// Snapshot shift at the start of an iteration.
+    pub snapshot: wgpu::ComputePipeline,
+}
+
+/// The energy reduction and the global balance.
+#[derive(Debug)]
+pub struct EnergyKernels {
+    /// Partial sums over particles.
+    pub particles: wgpu::ComputePipeline,
+    /// Totals, ledger update and `σ`.
+    pub total: wgpu::ComputePipeline,
+    /// `v ← σ v`.
+    pub apply_scale: wgpu::ComputePipeline,
+}
+
+/// The kernels of a constraint family.
 #[derive(Debug)]
 pub struct FamilyKernels {
     /// One color group, Gauss-Seidel.
     pub gauss_seidel: wgpu::ComputePipeline,
+    /// One color group, Gauss-Seidel, local energy-aware mode.
+    pub gauss_seidel_local: wgpu::ComputePipeline,
     /// All elements, Jacobi.
     pub jacobi: wgpu::ComputePipeline,
+    /// All elements, Jacobi, local energy-aware mode.
+    pub jacobi_local: wgpu::ComputePipeline,
     /// λ = 0.
     pub clear: wgpu::ComputePipeline,
+    /// Local mode: energies at the start of the substep.
+    pub local_begin: wgpu::ComputePipeline,
+    /// Partial sums of the family's energy.
+    pub energy: wgpu::ComputePipeline,
 }
 
 fn storage(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
@@ -119,6 +155,9 @@ impl Kernels {
         );
         let apply_layout = layout(device, "jacobi-apply", &[storage(0, true), storage(1, true), storage(2, true)]);
         let range_layout = layout(device, "range", &[uniform(0, true)]);
+        let local_particles_layout = layout(device, "local-particles", &[storage(0, false)]);
+        let local_family_layout = layout(device, "local-family", &[storage(0, true), storage(1, false)]);
+        let energy_layout = layout(device, "energy", &[storage(2, false), storage(3, false)]);
 
         let particles_module = shader_module(device, "particles", shaders::PARTICLES);
         let p = Some(&particles_layout);
@@ -129,6 +168,8 @@ impl Kernels {
             device: device.clone(),
             particles_module,
             jacobi_apply: OnceLock::new(),
+            local: OnceLock::new(),
+            energy: OnceLock::new(),
             springs: OnceLock::new(),
             bending: OnceLock::new(),
             particles_layout,
@@ -136,7 +177,35 @@ impl Kernels {
             family_jacobi_layout,
             apply_layout,
             range_layout,
+            local_particles_layout,
+            local_family_layout,
+            energy_layout,
         }
+    }
+
+    /// The local mode's per-particle kernels (built on first use).
+    pub fn local(&self) -> &LocalKernels {
+        self.local.get_or_init(|| {
+            let groups = [Some(&self.particles_layout), None, None, Some(&self.local_particles_layout)];
+            LocalKernels {
+                begin: pipeline(&self.device, &self.particles_module, "local_begin", &groups),
+                snapshot: pipeline(&self.device, &self.particles_module, "local_snapshot", &groups),
+            }
+        })
+    }
+
+    /// The energy reduction kernels (built on first use).
+    pub fn energy(&self) -> &EnergyKernels {
+        self.energy.get_or_init(|| {
+            let p = Some(&self.particles_layout);
+            let e = Some(&self.energy_layout);
+            let m = &self.particles_module;
+            EnergyKernels {
+                particles: pipeline(&self.device, m, "energy_particles", &[p, None, None, e]),
+                total: pipeline(&self.device, m, "energy_final", &[p, None, Some(&self.range_layout), e]),
+                apply_scale: pipeline(&self.device, m, "apply_scale", &[p, None, None, e]),
+            }
+        })
     }
 
     /// `jacobi_apply` (built on first use).
@@ -161,12 +230,19 @@ impl Kernels {
         let m = shader_module(&self.device, name, source);
         let p = Some(&self.particles_layout);
         let r = Some(&self.range_layout);
-        let gs = [p, Some(&self.family_layout), r];
-        let jac = [p, Some(&self.family_jacobi_layout), r];
+        let (f, fj) = (Some(&self.family_layout), Some(&self.family_jacobi_layout));
+        let (local, energy) = (Some(&self.local_family_layout), Some(&self.energy_layout));
+        let make = |entry: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
+            pipeline(&self.device, &m, &format!("{name}_{entry}"), groups)
+        };
         FamilyKernels {
-            gauss_seidel: pipeline(&self.device, &m, &format!("{name}_gauss_seidel"), &gs),
-            jacobi: pipeline(&self.device, &m, &format!("{name}_jacobi"), &jac),
-            clear: pipeline(&self.device, &m, &format!("{name}_clear"), &gs),
+            gauss_seidel: make("gauss_seidel", &[p, f, r]),
+            gauss_seidel_local: make("gauss_seidel_local", &[p, f, r, local]),
+            jacobi: make("jacobi", &[p, fj, r]),
+            jacobi_local: make("jacobi_local", &[p, fj, r, local]),
+            clear: make("clear", &[p, f, r]),
+            local_begin: make("local_begin", &[p, f, r, local]),
+            energy: make("energy", &[p, f, r, energy]),
         }
     }
 }
@@ -174,4 +250,10 @@ impl Kernels {
 /// Workgroups (of 64) for `count` items, capped for the grid-stride loops.
 pub(crate) fn groups(count: u32) -> u32 {
     count.div_ceil(64).clamp(1, 65535)
+}
+
+/// Workgroups of an energy reduction over `count` items (at most 256 partial sums each; keep in
+/// sync with `REDUCE_GROUPS` in `shaders/common/types.wgsl`).
+pub(crate) fn reduce_groups(count: u32) -> u32 {
+    count.div_ceil(64).clamp(1, 256)
 }

@@ -12,6 +12,8 @@ use crate::solver::Settings;
 pub struct SimParams {
     /// Gravity (m/s²) in xyz.
     pub gravity: [f32; 4],
+    /// Rest centre of mass (m) in xyz: the reference of gravitational energy in the balance.
+    pub rest_com: [f32; 4],
     /// Substep `h` (s).
     pub h: f32,
     /// `1/h` (1/s).
@@ -40,11 +42,41 @@ pub struct SimParams {
     pub contact_offset: f32,
     /// Number of particles.
     pub num_particles: u32,
+    /// Number of springs.
+    pub num_springs: u32,
+    /// Number of bending elements.
+    pub num_bends: u32,
+    /// Over-relaxation `ω`.
+    pub sor: f32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: [u32; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<SimParams>() == 80);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 112);
+
+/// The energy ledger (`Ledger` in WGSL).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuLedger {
+    /// Energy at the start of the next substep (J).
+    pub h0: f32,
+    /// 1 once `h0` is set.
+    pub valid: u32,
+    /// The last velocity scale `σ`.
+    pub sigma: f32,
+    /// Cumulative dissipated work at the last balance (J).
+    pub work_mark: f32,
+    /// Last measured kinetic energy (J).
+    pub kinetic: f32,
+    /// Last measured gravitational energy about the rest centre of mass (J).
+    pub gravitational: f32,
+    /// Last measured elastic energy (J).
+    pub elastic: f32,
+    /// Cumulative dissipated work (J).
+    pub work: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<GpuLedger>() == 32);
 
 impl SimParams {
     /// The constants of `scene` under `s`, with the same `f32` arithmetic as the CPU solver.
@@ -54,6 +86,7 @@ impl SimParams {
         let ground = scene.ground;
         SimParams {
             gravity: scene.gravity.extend(0.0).to_array(),
+            rest_com: scene.rest_center_of_mass().extend(0.0).to_array(),
             h,
             inv_h: 1.0 / h,
             inv_h2: 1.0 / (h * h),
@@ -68,7 +101,10 @@ impl SimParams {
             num_spheres: scene.spheres.len() as u32,
             contact_offset: scene.contact_offset,
             num_particles: scene.num_particles() as u32,
-            pad: [0; 2],
+            num_springs: scene.springs.as_ref().map_or(0, |f| f.len() as u32),
+            num_bends: scene.bends.as_ref().map_or(0, |f| f.len() as u32),
+            sor: s.sor,
+            pad: [0; 3],
         }
     }
 }

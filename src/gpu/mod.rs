@@ -11,6 +11,6 @@ mod solver;
 
 pub use context::GpuContext;
 pub use kernels::{Kernels, shader_module};
-pub use layout::{DispatchRange, GpuSphere, SimParams};
+pub use layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
 pub use readback::{map_and_copy, read_buffer};
-pub use solver::{GpuSolver, GpuState};
+pub use solver::{GpuEnergies, GpuSolver, GpuState};

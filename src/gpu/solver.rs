@@ -5,14 +5,14 @@ use std::sync::Arc;
 use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
-use super::kernels::{FamilyKernels, Kernels, groups};
-use super::layout::{DispatchRange, GpuSphere, SimParams};
+use super::kernels::{FamilyKernels, Kernels, groups, reduce_groups};
+use super::layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
 use super::readback::read_buffer;
 use crate::constraints::Element;
 use crate::error::Result;
 use crate::metrics::{FrameStats, StateView};
 use crate::scene::Scene;
-use crate::solver::{Method, Settings, StepConstants, jacobi};
+use crate::solver::{EnergyAware, Method, Settings, StepConstants, jacobi};
 
 /// Stride of the dispatch-range table (the uniform offset alignment).
 const RANGE_STRIDE: u64 = 256;
@@ -31,7 +31,33 @@ struct GpuFamily {
     /// First Jacobi correction slot and slots per element.
     slot_base: u32,
     arity: u32,
+    /// Sizes of the color groups, in order.
+    color_sizes: Vec<u32>,
     jacobi: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    /// Local mode: group 3 (snapshots, start energies).
+    local: Option<wgpu::BindGroup>,
+}
+
+/// Buffers of the energy reduction (allocated when first needed).
+#[derive(Debug)]
+struct EnergyBuffers {
+    ledger: wgpu::Buffer,
+    bind_group: wgpu::BindGroup,
+}
+
+/// Energies measured on the GPU by the reduction kernels (J).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct GpuEnergies {
+    /// Kinetic energy.
+    pub kinetic: f64,
+    /// Gravitational energy, heights from the ground as in [`FrameStats`].
+    pub gravitational: f64,
+    /// Elastic (material) energy.
+    pub elastic: f64,
+    /// Work of physical dissipation since the start.
+    pub dissipated: f64,
+    /// The last global velocity scale `σ`.
+    pub last_scale: f64,
 }
 
 /// Jacobi's buffers, allocated on the first Jacobi frame.
@@ -54,6 +80,8 @@ pub struct GpuState {
     pub springs_lambda: Vec<f32>,
     /// Bending multipliers of the last substep.
     pub bends_lambda: Vec<f32>,
+    /// Work of physical dissipation since the start (J), summed over particles.
+    pub dissipated: f64,
 }
 
 /// One scene on the GPU: particle buffers (`x` is `STORAGE | VERTEX`, read by the renderer), the
@@ -73,8 +101,26 @@ pub struct GpuSolver {
     springs: Option<GpuFamily>,
     bends: Option<GpuFamily>,
     jacobi: Option<JacobiBuffers>,
+    energy: Option<EnergyBuffers>,
+    /// Local mode: group 3 of the per-particle kernels (snapshots).
+    local: Option<wgpu::BindGroup>,
+    /// Whether the ledger holds the energy at the start of the next substep.
+    ledger_valid: bool,
+    /// Offsets of the range entries selecting the final reduction's mode (init, balance, measure).
+    total_offsets: [u32; 3],
+    /// Constant from the balance's gravitational reference to the ground's (J).
+    gravity_shift: f64,
     last: Option<Settings>,
     n: u32,
+}
+
+/// `−M g·(x_com − x_floor)`: converts gravitational energy about the rest centre of mass into
+/// heights from the ground (J).
+fn gravity_shift(scene: &Scene) -> f64 {
+    let com = scene.rest_center_of_mass().as_dvec3();
+    let floor = glam::DVec3::new(0.0, scene.ground.map_or(0.0, |g| g.height as f64), 0.0);
+    let mass: f64 = scene.inv_mass.iter().filter(|&&w| w > 0.0).map(|&w| 1.0 / w as f64).sum();
+    -mass * scene.gravity.as_dvec3().dot(com - floor)
 }
 
 fn storage_buffer(device: &wgpu::Device, label: &str, data: &[u8], extra: wgpu::BufferUsages) -> wgpu::Buffer {
@@ -140,7 +186,9 @@ impl GpuSolver {
                 len: len as u32,
                 slot_base,
                 arity,
+                color_sizes: colors.iter().map(|r| r.end - r.start).collect(),
                 jacobi: None,
+                local: None,
             };
             slot_base += arity * len as u32;
             f
@@ -149,6 +197,10 @@ impl GpuSolver {
             scene.springs.as_ref().map(|f| family("springs", f.len(), &f.colors, 2, bytemuck::cast_slice(&f.elements)));
         let bends =
             scene.bends.as_ref().map(|f| family("bending", f.len(), &f.colors, 4, bytemuck::cast_slice(&f.elements)));
+        let total_offsets = [0u32, 1, 2].map(|mode| {
+            ranges.push(DispatchRange { start: mode, count: 0, slot_base: 0, pad: 0 });
+            ((ranges.len() as u64 - 1) * RANGE_STRIDE) as u32
+        });
         let mut table = vec![0u8; (ranges.len().max(1) as u64 * RANGE_STRIDE) as usize];
         for (i, r) in ranges.iter().enumerate() {
             let at = i * RANGE_STRIDE as usize;
@@ -171,6 +223,7 @@ impl GpuSolver {
                 }),
             }],
         });
+        let gravity_shift = gravity_shift(&scene);
         GpuSolver {
             kernels,
             device: device.clone(),
@@ -184,6 +237,11 @@ impl GpuSolver {
             springs,
             bends,
             jacobi: None,
+            energy: None,
+            local: None,
+            ledger_valid: false,
+            total_offsets,
+            gravity_shift,
             last: None,
             n,
         }
@@ -204,6 +262,18 @@ impl GpuSolver {
         if s.method == Method::Jacobi {
             self.prepare_jacobi(s.jacobi_omega);
         }
+        let global = s.energy_aware == EnergyAware::Global;
+        let local = s.energy_aware == EnergyAware::Local;
+        if global {
+            self.prepare_energy();
+        } else {
+            self.ledger_valid = false;
+        }
+        if local {
+            self.prepare_local();
+        }
+        let init_ledger = global && !self.ledger_valid;
+        self.ledger_valid = global;
         let k = &*self.kernels;
         let springs = self.springs.as_ref().map(|f| (f, k.springs()));
         let bends = self.bends.as_ref().map(|f| (f, k.bending()));
@@ -212,6 +282,10 @@ impl GpuSolver {
         let mut pass =
             encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
         pass.set_bind_group(0, &self.particles_bind_group, &[]);
+        if init_ledger {
+            self.encode_energy(&mut pass, &families, 0);
+        }
+        let local_groups = self.local.as_ref().filter(|_| local);
         for _ in 0..s.substeps {
             pass.set_pipeline(&k.predict);
             pass.dispatch_workgroups(particle_groups, 1, 1);
@@ -221,13 +295,42 @@ impl GpuSolver {
                 pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
                 pass.dispatch_workgroups(groups(f.len), 1, 1);
             }
-            for _ in 0..s.iterations {
+            if let Some(lg) = local_groups {
+                pass.set_pipeline(&k.local().begin);
+                pass.set_bind_group(3, lg, &[]);
+                pass.dispatch_workgroups(particle_groups, 1, 1);
+                for (f, fk) in &families {
+                    if let Some(fl) = &f.local {
+                        pass.set_pipeline(&fk.local_begin);
+                        pass.set_bind_group(1, &f.bind_group, &[]);
+                        pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
+                        pass.set_bind_group(3, fl, &[]);
+                        pass.dispatch_workgroups(groups(f.len), 1, 1);
+                    }
+                }
+            }
+            for iteration in 0..s.iterations {
+                if iteration > 0
+                    && let Some(lg) = local_groups
+                {
+                    pass.set_pipeline(&k.local().snapshot);
+                    pass.set_bind_group(3, lg, &[]);
+                    pass.dispatch_workgroups(particle_groups, 1, 1);
+                }
                 match s.method {
                     Method::GaussSeidel => {
                         for (f, fk) in &families {
-                            pass.set_pipeline(&fk.gauss_seidel);
+                            let local_family = f.local.as_ref().filter(|_| local);
+                            pass.set_pipeline(if local_family.is_some() {
+                                &fk.gauss_seidel_local
+                            } else {
+                                &fk.gauss_seidel
+                            });
                             pass.set_bind_group(1, &f.bind_group, &[]);
-                            for (&offset, r) in f.color_offsets.iter().zip(self.color_sizes(f)) {
+                            if let Some(fl) = local_family {
+                                pass.set_bind_group(3, fl, &[]);
+                            }
+                            for (&offset, &r) in f.color_offsets.iter().zip(&f.color_sizes) {
                                 pass.set_bind_group(2, &self.range_bind_group, &[offset]);
                                 pass.dispatch_workgroups(groups(r), 1, 1);
                             }
@@ -236,9 +339,13 @@ impl GpuSolver {
                     Method::Jacobi => {
                         for (f, fk) in &families {
                             if let Some((_, bg)) = &f.jacobi {
-                                pass.set_pipeline(&fk.jacobi);
+                                let local_family = f.local.as_ref().filter(|_| local);
+                                pass.set_pipeline(if local_family.is_some() { &fk.jacobi_local } else { &fk.jacobi });
                                 pass.set_bind_group(1, bg, &[]);
                                 pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
+                                if let Some(fl) = local_family {
+                                    pass.set_bind_group(3, fl, &[]);
+                                }
                                 pass.dispatch_workgroups(groups(f.len), 1, 1);
                             }
                         }
@@ -254,17 +361,101 @@ impl GpuSolver {
             }
             pass.set_pipeline(&k.finish);
             pass.dispatch_workgroups(particle_groups, 1, 1);
+            if global && let Some(e) = &self.energy {
+                self.encode_energy(&mut pass, &families, 1);
+                pass.set_pipeline(&k.energy().apply_scale);
+                pass.set_bind_group(3, &e.bind_group, &[]);
+                pass.dispatch_workgroups(particle_groups, 1, 1);
+            }
         }
     }
 
-    /// Sizes of a family's color groups, in order.
-    fn color_sizes<'a>(&'a self, f: &GpuFamily) -> impl Iterator<Item = u32> + 'a {
-        let colors = if f.arity == 2 {
-            self.scene.springs.as_ref().map(|s| &s.colors)
-        } else {
-            self.scene.bends.as_ref().map(|s| &s.colors)
-        };
-        colors.into_iter().flatten().map(|r| r.end - r.start)
+    /// Records the energy reduction; `mode` 0 sets the ledger's start energy, 1 runs the global
+    /// balance, 2 only measures.
+    fn encode_energy(&self, pass: &mut wgpu::ComputePass<'_>, families: &[(&GpuFamily, &FamilyKernels)], mode: usize) {
+        let Some(e) = &self.energy else { return };
+        let k = self.kernels.energy();
+        pass.set_bind_group(3, &e.bind_group, &[]);
+        pass.set_pipeline(&k.particles);
+        pass.dispatch_workgroups(reduce_groups(self.n), 1, 1);
+        for (f, fk) in families {
+            pass.set_pipeline(&fk.energy);
+            pass.set_bind_group(1, &f.bind_group, &[]);
+            pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
+            pass.dispatch_workgroups(reduce_groups(f.len), 1, 1);
+        }
+        pass.set_pipeline(&k.total);
+        pass.set_bind_group(2, &self.range_bind_group, &[self.total_offsets[mode]]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+
+    /// Allocates the reduction's buffers (once).
+    fn prepare_energy(&mut self) {
+        if self.energy.is_some() {
+            return;
+        }
+        let partials = storage_buffer(&self.device, "energy partials", &[0u8; 768 * 16], wgpu::BufferUsages::empty());
+        let ledger = storage_buffer(&self.device, "energy ledger", &[0u8; 32], wgpu::BufferUsages::empty());
+        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("energy"),
+            layout: &self.kernels.energy_layout,
+            entries: &[entry(2, &partials), entry(3, &ledger)],
+        });
+        self.energy = Some(EnergyBuffers { ledger, bind_group });
+    }
+
+    /// Allocates the local mode's snapshots and start energies (once).
+    fn prepare_local(&mut self) {
+        if self.local.is_some() {
+            return;
+        }
+        let snapshots =
+            storage_buffer(&self.device, "snapshots", &vec![0u8; self.n as usize * 32], wgpu::BufferUsages::empty());
+        self.local = Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("local particles"),
+            layout: &self.kernels.local_particles_layout,
+            entries: &[entry(0, &snapshots)],
+        }));
+        for f in [&mut self.springs, &mut self.bends].into_iter().flatten() {
+            let start = storage_buffer(
+                &self.device,
+                "energy at start",
+                &vec![0u8; f.len as usize * 4],
+                wgpu::BufferUsages::empty(),
+            );
+            f.local = Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("local family"),
+                layout: &self.kernels.local_family_layout,
+                entries: &[entry(0, &snapshots), entry(1, &start)],
+            }));
+        }
+    }
+
+    /// Energies by the GPU reduction (records one, waits and reads the ledger back).
+    pub fn energies(&mut self) -> Result<GpuEnergies> {
+        self.prepare_energy();
+        let k = &*self.kernels;
+        let springs = self.springs.as_ref().map(|f| (f, k.springs()));
+        let bends = self.bends.as_ref().map(|f| (f, k.bending()));
+        let families: Vec<(&GpuFamily, &FamilyKernels)> = springs.into_iter().chain(bends).collect();
+        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("energy") });
+        {
+            let mut pass = encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("energy"), timestamp_writes: None });
+            pass.set_bind_group(0, &self.particles_bind_group, &[]);
+            self.encode_energy(&mut pass, &families, 2);
+        }
+        self.queue.submit([encoder.finish()]);
+        let Some(e) = &self.energy else { return Ok(GpuEnergies::default()) };
+        let l: Vec<GpuLedger> = read_buffer(&self.device, &self.queue, &e.ledger)?;
+        let l = l.first().copied().unwrap_or_default();
+        Ok(GpuEnergies {
+            kinetic: l.kinetic as f64,
+            gravitational: l.gravitational as f64 + self.gravity_shift,
+            elastic: l.elastic as f64,
+            dissipated: l.work as f64,
+            last_scale: l.sigma as f64,
+        })
     }
 
     /// Dispatches one frame needs under `s` (for reports).
@@ -277,7 +468,12 @@ impl GpuSolver {
             }
             Method::Jacobi => present + 1,
         } + 1;
-        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration)
+        let energy = match s.energy_aware {
+            EnergyAware::Off => 0,
+            EnergyAware::Local => 1 + present + s.iterations.saturating_sub(1) as u64,
+            EnergyAware::Global => present + 3,
+        };
+        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration + energy)
     }
 
     /// Records and submits one frame, without waiting.
@@ -371,6 +567,7 @@ impl GpuSolver {
             w: x.iter().map(|p| p.w).collect(),
             x: x.iter().map(|p| p.truncate()).collect(),
             v: v.iter().map(|p| p.truncate()).collect(),
+            dissipated: v.iter().map(|p| p.w as f64).sum(),
             springs_lambda: lambda(&self.springs)?,
             bends_lambda: lambda(&self.bends)?,
         })
@@ -393,7 +590,7 @@ impl GpuSolver {
             springs_lambda: &st.springs_lambda,
             bends_lambda: &st.bends_lambda,
             constants: k.as_ref(),
-            dissipated: 0.0,
+            dissipated: st.dissipated,
         };
         Ok(FrameStats::of_state(&self.scene, &view, frame, time_ms))
     }
