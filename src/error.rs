@@ -38,6 +38,9 @@ pub enum Error {
     /// A GPU operation failed.
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// A report could not be produced.
+    #[error("report: {0}")]
+    Report(String),
     /// A file could not be read or written.
     #[error("{path}: {source}")]
     Io {

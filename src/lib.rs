@@ -19,6 +19,7 @@ pub mod math;
 pub mod mesh;
 pub mod metrics;
 pub mod render;
+pub mod report;
 pub mod scene;
 pub mod simulation;
 pub mod solver;

@@ -9,6 +9,7 @@ fn main() -> anyhow::Result<()> {
     match args.command {
         cli::Command::Simulate(a) => cli::simulate::run(&a),
         cli::Command::Render(a) => cli::render::run(&a),
+        cli::Command::Report(a) => cli::report::run(&a),
         cli::Command::Bench(a) => cli::bench::run(&a),
     }
 }

@@ -79,3 +79,22 @@ fn absurd_parameters_are_refused_with_a_reason() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("/nonexistent-dir/x.obj") && !err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn quick_energy_report_writes_its_files() {
+    let dir = scratch("energy-report");
+    let out = eapbd(&["report", "energy", "--quick", "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for f in
+        ["energy.md", "energy_runs.csv", "energy_series.csv", "energy_cloth_dt60.png", "energy_cloth-free_dt60.png"]
+    {
+        let meta = std::fs::metadata(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        assert!(meta.len() > 100, "{f} is nearly empty");
+    }
+    let runs = std::fs::read_to_string(dir.join("energy_runs.csv")).unwrap();
+    // 2 scenes × 2 iteration counts × 1 step × 4 variants, every one finite.
+    assert_eq!(runs.lines().count(), 1 + 16);
+    assert!(runs.lines().skip(1).all(|l| l.ends_with(",true")), "{runs}");
+    let img = image::open(dir.join("energy_cloth_dt60.png")).unwrap().to_rgb8();
+    assert!(img.width() >= 800 && img.pixels().any(|p| p.0 != [255, 255, 255]));
+}

@@ -2,6 +2,7 @@
 
 pub mod bench;
 pub mod render;
+pub mod report;
 pub mod simulate;
 
 use std::str::FromStr;
@@ -27,6 +28,8 @@ pub enum Command {
     Simulate(simulate::SimulateArgs),
     /// Simulate headless and write frames as PNG images.
     Render(render::RenderArgs),
+    /// Studies written as CSV, Markdown and PNG plots.
+    Report(report::ReportArgs),
     /// Time the solver and the mesh coloring.
     Bench(bench::BenchArgs),
 }
