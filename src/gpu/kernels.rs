@@ -79,7 +79,8 @@ pub struct FamilyKernels {
     pub energy: wgpu::ComputePipeline,
 }
 
-fn storage(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+/// A compute-stage storage buffer entry of a bind group layout.
+pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -145,19 +146,26 @@ impl Kernels {
         let particles_layout = layout(
             device,
             "particles",
-            &[storage(0, false), storage(1, false), storage(2, false), uniform(3, false), storage(4, true)],
+            &[
+                storage_entry(0, false),
+                storage_entry(1, false),
+                storage_entry(2, false),
+                uniform(3, false),
+                storage_entry(4, true),
+            ],
         );
-        let family_layout = layout(device, "family", &[storage(0, true), storage(1, false)]);
+        let family_layout = layout(device, "family", &[storage_entry(0, true), storage_entry(1, false)]);
         let family_jacobi_layout = layout(
             device,
             "family-jacobi",
-            &[storage(0, true), storage(1, false), storage(2, true), storage(3, false)],
+            &[storage_entry(0, true), storage_entry(1, false), storage_entry(2, true), storage_entry(3, false)],
         );
-        let apply_layout = layout(device, "jacobi-apply", &[storage(0, true), storage(1, true), storage(2, true)]);
+        let apply_layout =
+            layout(device, "jacobi-apply", &[storage_entry(0, true), storage_entry(1, true), storage_entry(2, true)]);
         let range_layout = layout(device, "range", &[uniform(0, true)]);
-        let local_particles_layout = layout(device, "local-particles", &[storage(0, false)]);
-        let local_family_layout = layout(device, "local-family", &[storage(0, true), storage(1, false)]);
-        let energy_layout = layout(device, "energy", &[storage(2, false), storage(3, false)]);
+        let local_particles_layout = layout(device, "local-particles", &[storage_entry(0, false)]);
+        let local_family_layout = layout(device, "local-family", &[storage_entry(0, true), storage_entry(1, false)]);
+        let energy_layout = layout(device, "energy", &[storage_entry(2, false), storage_entry(3, false)]);
 
         let particles_module = shader_module(device, "particles", shaders::PARTICLES);
         let p = Some(&particles_layout);

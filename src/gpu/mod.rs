@@ -10,7 +10,7 @@ pub mod shaders;
 mod solver;
 
 pub use context::GpuContext;
-pub use kernels::{Kernels, shader_module};
+pub use kernels::{Kernels, shader_module, storage_entry};
 pub use layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
 pub use readback::{map_and_copy, read_buffer};
 pub use solver::{GpuEnergies, GpuSolver, GpuState};

@@ -105,16 +105,7 @@ impl Renderer {
         };
         let mesh = draw("mesh", shaders::MESH, &buffers);
         let ground = draw("ground", shaders::GROUND, &[]);
-        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
+        let storage = crate::gpu::storage_entry;
         let normals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("normals"),
             entries: &[storage(0, true), storage(1, true), storage(2, true), storage(3, true), storage(4, false)],

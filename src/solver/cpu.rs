@@ -360,6 +360,25 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
 ) {
+    // Two instantiations, so the plain sweep carries no trace of the local mode.
+    match &local {
+        Some(ctx) => {
+            sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
+        }
+        None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
+    }
+}
+
+/// The Gauss-Seidel sweep, with `adjust(j, particles, positions, inverse masses, C, α)` giving
+/// the constraint value to project.
+#[inline(always)]
+fn sweep<E: Element<N>, V: Vector, const N: usize>(
+    f: &Family<E, N>,
+    lambda: &mut [V::S],
+    p: &mut Particles<V>,
+    k: &StepConstants<V::S>,
+    adjust: impl Fn(usize, [u32; N], &[V; N], &[V::S; N], V::S, V::S) -> V::S,
+) {
     let lambda = &mut lambda[..f.elements.len()];
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
@@ -367,11 +386,8 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
             let idx = e.particles();
             let xs = gather(&p.x, idx);
             let ws = idx.map(|i| p.w[i as usize]);
-            let adjust = |c_val, alpha| match &local {
-                Some(ctx) => local_adjusted(ctx, lo + j, idx, &xs, &ws, k, c_val, alpha),
-                None => c_val,
-            };
-            if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, *l, k, adjust) {
+            let adj = |c_val, alpha| adjust(lo + j, idx, &xs, &ws, c_val, alpha);
+            if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, *l, k, adj) {
                 *l += d;
                 for n in 0..N {
                     p.x[idx[n] as usize] = xs[n] + grad[n] * (ws[n] * d);
