@@ -47,6 +47,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
             proj / 1e6
         );
     }
+    peer_rows(if a.quick { 20 } else { 120 })?;
     gpu_rows(warm, frames)?;
     println!();
     println!("Mesh coloring (best of {reps})");
@@ -65,6 +66,34 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
         })
         .collect();
     coloring_case("random graph", np as usize, &random, reps);
+    Ok(())
+}
+
+/// The peer scene of the performance issue: 64×64 cloth, 1 m, 1 kg, two corners pinned,
+/// k = 1e6 N/m springs on grid edges and one diagonal per quad plus dihedral bending on interior
+/// edges (23,814 constraints), gravity, dt = 1/60; mean time per frame and time-averaged mean
+/// stretch over `frames` frames.
+fn peer_rows(frames: u32) -> anyhow::Result<()> {
+    println!(
+        "\nPeer scene: cloth --resolution 64 --stiffness 1e6 (springs + bending), {frames} frames, CPU, one thread"
+    );
+    println!("| iterations x substeps | constraints | ms/frame (mean) | mean stretch (time average) |");
+    println!("|---|---|---|---|");
+    for (iterations, substeps) in [(30, 1), (1, 30)] {
+        let opts = SceneOptions { resolution: Some(64), stiffness: 1.0e6, ..SceneOptions::default() };
+        let scene = scene::build("cloth", &opts)?;
+        let n = scene.num_constraints();
+        let mut sv = CpuSolver::<Vec3>::new(scene);
+        let s = Settings { iterations, substeps, ..Settings::default() };
+        let (mut ms, mut stretch) = (0.0, 0.0);
+        for frame in 1..=frames {
+            let t0 = Instant::now();
+            sv.step_frame(&s);
+            ms += t0.elapsed().as_secs_f64() * 1e3;
+            stretch += eapbd::metrics::FrameStats::measure(&sv, frame, 0.0).stretch_mean;
+        }
+        println!("| {iterations} x {substeps} | {n} | {:.2} | {:.4} |", ms / frames as f64, stretch / frames as f64);
+    }
     Ok(())
 }
 
