@@ -15,6 +15,7 @@ pub mod coloring;
 pub mod constraints;
 pub mod error;
 pub mod gpu;
+pub mod material;
 pub mod math;
 pub mod mesh;
 pub mod metrics;

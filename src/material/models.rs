@@ -1,0 +1,209 @@
+//! The five 3D elastic models of SPEC §3, as energy densities `Ψ(F)` (J/m³) and first
+//! Piola–Kirchhoff stresses `P = ∂Ψ/∂F` (Pa).
+//!
+//! Parameters come from Young's modulus `E` and Poisson's ratio `ν`: Lamé `μ = E/(2(1+ν))`,
+//! `λ = Eν/((1+ν)(1−2ν))`, bulk `κ = λ + 2μ/3`.
+//!
+//! - Linear: `ε = ½(F + Fᵀ) − I`, `Ψ = μ ε:ε + (λ/2) tr²ε`, `P = 2μ ε + λ tr(ε) I`. Not invariant
+//!   under rotation (a rotated rest shape has energy); only translation invariant and, to first
+//!   order, insensitive to infinitesimal rotations.
+//! - StVK: `Ψ = μ E:E + (λ/2) tr²E`, `E = ½(FᵀF − I)`.
+//! - Neo-Hookean: `Ψ = (μ/2)(I₁ − log I₃ − 3) + (λ/8) log² I₃`.
+//! - Mooney-Rivlin (Sin, Schroeder, Barbič 2013): `Ψ = (μ₀₁/2)((I₁² − I₂)/I₃^{2/3} − 6)
+//!   + μ₁₀ (I₁/I₃^{1/3} − 3) + ν₁ (I₃^{1/2} − 1)²` with `μ₁₀ = μ₀₁ = μ/4` (small-strain shear
+//!   modulus `2(μ₁₀ + μ₀₁) = μ`) and `ν₁ = κ/2`.
+//! - Arruda-Boyce: `Ψ = Σᵢ αᵢ (Ī₁ⁱ − 3ⁱ) + (κ/2)(J − 1)²`, `Ī₁ = J^{−2/3} I₁`,
+//!   `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}`, `C = (1/2, 1/20, 11/1050, 19/7000, 519/673750)`, `λ_m = 2.8`,
+//!   and `μ_AB = μ / (1 + 3/(5λ_m²) + 99/(175λ_m⁴) + 513/(875λ_m⁶) + 42039/(67375λ_m⁸))` so the
+//!   initial shear modulus is `μ`.
+//!
+//! Inversion handling for all but the linear model: the energy is a symmetric function `Ψ̂(σ)`
+//! of the signed singular values of `F` (negative smallest one when `det F < 0`, see
+//! [`super::svd`]); below `σ_min = 0.15` it is continued by its first-order Taylor expansion from
+//! the clamped values `σ̂ = max(σ, σ_min)` (Stomakhin et al. 2012):
+//! `Ψ(σ) = Ψ̂(σ̂) + ∇Ψ̂(σ̂)·(σ − σ̂)`, which is C¹, keeps energy and stress consistent, and gives
+//! an inverted element a restoring force. `P = U diag(∂Ψ/∂σ) Vᵀ`.
+
+use super::hyperdual::Hd;
+use super::mat3::M3;
+use super::svd::svd;
+use crate::error::{Error, Result};
+use crate::math::prelude::*;
+
+/// A 3D elastic model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Model {
+    /// Linear (small-strain) elasticity.
+    Linear,
+    /// St. Venant–Kirchhoff.
+    StVK,
+    /// Neo-Hookean.
+    NeoHookean,
+    /// Mooney-Rivlin.
+    MooneyRivlin,
+    /// Arruda-Boyce.
+    ArrudaBoyce,
+}
+
+impl Model {
+    /// All models, in documentation order.
+    pub const ALL: [Model; 5] =
+        [Model::Linear, Model::StVK, Model::NeoHookean, Model::MooneyRivlin, Model::ArrudaBoyce];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Linear => "linear",
+            Model::StVK => "stvk",
+            Model::NeoHookean => "neo-hookean",
+            Model::MooneyRivlin => "mooney-rivlin",
+            Model::ArrudaBoyce => "arruda-boyce",
+        }
+    }
+}
+
+/// Singular values below this use the inversion extension.
+pub const SIGMA_MIN: f64 = 0.15;
+
+/// Arruda-Boyce's locking stretch `λ_m` by default.
+pub const ARRUDA_BOYCE_LOCKING: f64 = 2.8;
+
+const AB_C: [f64; 5] = [0.5, 1.0 / 20.0, 11.0 / 1050.0, 19.0 / 7000.0, 519.0 / 673750.0];
+
+/// A model with its constants (Pa).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Elastic {
+    /// The model.
+    pub model: Model,
+    /// Lamé `μ` (Pa).
+    pub mu: f64,
+    /// Lamé `λ` (Pa).
+    pub lambda: f64,
+    /// Bulk modulus `κ = λ + 2μ/3` (Pa).
+    pub kappa: f64,
+    /// Mooney-Rivlin `μ₁₀` (Pa).
+    pub mu10: f64,
+    /// Mooney-Rivlin `μ₀₁` (Pa).
+    pub mu01: f64,
+    /// Mooney-Rivlin `ν₁` (Pa).
+    pub nu1: f64,
+    /// Arruda-Boyce `μ_AB` (Pa).
+    pub mu_ab: f64,
+    /// Arruda-Boyce `λ_m`.
+    pub lambda_m: f64,
+}
+
+impl Elastic {
+    /// `model` with Young's modulus `young` (Pa) and Poisson's ratio `poisson`.
+    pub fn new(model: Model, young: f64, poisson: f64) -> Result<Self> {
+        if !(young.is_finite() && young > 0.0) {
+            return Err(Error::param("--young", young, "must be a positive finite modulus in Pa"));
+        }
+        if !(poisson.is_finite() && poisson > -1.0 && poisson < 0.5) {
+            return Err(Error::param("--poisson", poisson, "must be in (-1, 0.5)"));
+        }
+        let mu = young / (2.0 * (1.0 + poisson));
+        let lambda = young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson));
+        let kappa = lambda + 2.0 * mu / 3.0;
+        let lm = ARRUDA_BOYCE_LOCKING;
+        let l2 = lm * lm;
+        let mu_ab = mu
+            / (1.0
+                + 3.0 / (5.0 * l2)
+                + 99.0 / (175.0 * l2 * l2)
+                + 513.0 / (875.0 * l2 * l2 * l2)
+                + 42039.0 / (67375.0 * l2 * l2 * l2 * l2));
+        Ok(Elastic { model, mu, lambda, kappa, mu10: mu / 4.0, mu01: mu / 4.0, nu1: kappa / 2.0, mu_ab, lambda_m: lm })
+    }
+
+    /// `Ψ̂(σ)` with derivatives, for the isotropic models (positive `σ`).
+    fn psi_hat<S: Real>(&self, s: [Hd<S>; 3]) -> Hd<S> {
+        let k = |v: f64| S::from_f64(v);
+        let one = S::one();
+        let sq = [s[0] * s[0], s[1] * s[1], s[2] * s[2]];
+        let i1 = sq[0] + sq[1] + sq[2];
+        match self.model {
+            Model::Linear | Model::StVK => {
+                let e = sq.map(|q| (q + (-one)) * k(0.5));
+                let tr = e[0] + e[1] + e[2];
+                (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]) * k(self.mu) + tr * tr * k(0.5 * self.lambda)
+            }
+            Model::NeoHookean => {
+                let l = s[0].ln() + s[1].ln() + s[2].ln();
+                (i1 + k(-3.0)) * k(0.5 * self.mu) - l * k(self.mu) + l * l * k(0.5 * self.lambda)
+            }
+            Model::MooneyRivlin => {
+                let j = s[0] * s[1] * s[2];
+                let i2 = sq[0] * sq[0] + sq[1] * sq[1] + sq[2] * sq[2];
+                let a = i1 * i1 - i2;
+                let jm = j - Hd::constant(one);
+                (a * j.powf(k(-4.0 / 3.0)) + k(-6.0)) * k(0.5 * self.mu01)
+                    + (i1 * j.powf(k(-2.0 / 3.0)) + k(-3.0)) * k(self.mu10)
+                    + jm * jm * k(self.nu1)
+            }
+            Model::ArrudaBoyce => {
+                let j = s[0] * s[1] * s[2];
+                let ib = i1 * j.powf(k(-2.0 / 3.0));
+                let mut psi = Hd::constant(S::zero());
+                for (n, c_i) in AB_C.iter().enumerate() {
+                    let i = n as u32 + 1;
+                    let alpha = self.mu_ab * c_i / self.lambda_m.powi(2 * i as i32 - 2);
+                    psi = psi + (ib.powi(i) + k(-(3f64.powi(i as i32)))) * k(alpha);
+                }
+                let jm = j - Hd::constant(one);
+                psi + jm * jm * k(0.5 * self.kappa)
+            }
+        }
+    }
+
+    /// `Ψ(σ)` and `∂Ψ/∂σ` with the inversion extension below `σ_min`.
+    fn extended<S: Real>(&self, sigma: [S; 3]) -> (S, [S; 3]) {
+        let smin = S::from_f64(SIGMA_MIN);
+        let clamped = sigma.map(|x| x.max(smin));
+        let h = self.psi_hat([0, 1, 2].map(|i| Hd::var(i, clamped[i])));
+        let delta = [0, 1, 2].map(|i| sigma[i] - clamped[i]);
+        let mut psi = h.v;
+        let mut grad = h.g;
+        for k in 0..3 {
+            psi += h.g[k] * delta[k];
+            if delta[k] == S::zero() {
+                for i in 0..3 {
+                    grad[k] += h.h[i][k] * delta[i];
+                }
+            }
+        }
+        (psi, grad)
+    }
+
+    /// Energy density `Ψ(F)` (J/m³).
+    pub fn energy_density<S: Real>(&self, f: &M3<S>) -> S {
+        match self.model {
+            Model::Linear => {
+                let (eps, tr) = small_strain(f);
+                S::from_f64(self.mu) * eps.ddot(&eps) + S::from_f64(0.5 * self.lambda) * tr * tr
+            }
+            _ => self.extended(svd(f).sigma).0,
+        }
+    }
+
+    /// First Piola–Kirchhoff stress `P(F) = ∂Ψ/∂F` (Pa).
+    pub fn stress<S: Real>(&self, f: &M3<S>) -> M3<S> {
+        match self.model {
+            Model::Linear => {
+                let (eps, tr) = small_strain(f);
+                eps.scale(S::from_f64(2.0 * self.mu)).add(&M3::identity().scale(S::from_f64(self.lambda) * tr))
+            }
+            _ => {
+                let d = svd(f);
+                d.compose(self.extended(d.sigma).1)
+            }
+        }
+    }
+}
+
+/// `ε = ½(F + Fᵀ) − I` and `tr ε`.
+fn small_strain<S: Real>(f: &M3<S>) -> (M3<S>, S) {
+    let eps = f.add(&f.transpose()).scale(c(0.5)).add(&M3::identity().scale(-S::one()));
+    let tr = eps.trace();
+    (eps, tr)
+}

@@ -1,0 +1,214 @@
+//! 3D elastic models: the signed SVD, zero energy and stress at rest, stress against central
+//! finite differences of the energy (f64) over stretch, compression and inversion, rotation
+//! invariance (and what the linear model satisfies instead), agreement at small strain, and
+//! finite restoring stress for inverted and collapsed elements.
+
+use eapbd::material::{Elastic, M3, Model, svd};
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+const E: f64 = 1.0e5;
+const NU: f64 = 0.3;
+
+fn models() -> Vec<Elastic> {
+    Model::ALL.iter().map(|&m| Elastic::new(m, E, NU).unwrap()).collect()
+}
+
+fn random_matrix(rng: &mut SmallRng, spread: f64) -> M3<f64> {
+    let mut m = M3::identity();
+    for c in 0..3 {
+        for r in 0..3 {
+            m.0[c][r] += rng.random_range(-spread..spread);
+        }
+    }
+    m
+}
+
+/// A rotation from a random axis and angle (Rodrigues).
+fn rotation(rng: &mut SmallRng, angle: f64) -> M3<f64> {
+    let mut a = [rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0f64..1.0)];
+    let n = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    a = a.map(|x| x / n);
+    let k = M3([[0.0, a[2], -a[1]], [-a[2], 0.0, a[0]], [a[1], -a[0], 0.0]]);
+    M3::identity().add(&k.scale(angle.sin())).add(&k.mul(&k).scale(1.0 - angle.cos()))
+}
+
+fn max_abs(m: &M3<f64>) -> f64 {
+    m.0.iter().flatten().fold(0.0, |a, b| a.max(b.abs()))
+}
+
+#[test]
+fn signed_svd_reconstructs_and_flags_inversion() {
+    let mut rng = SmallRng::seed_from_u64(1);
+    for i in 0..2000 {
+        let mut f = random_matrix(&mut rng, 1.0);
+        if i % 3 == 0 {
+            // A mirror: inverted element.
+            for c in 0..3 {
+                f.0[c][0] = -f.0[c][0];
+            }
+        }
+        let d = svd(&f);
+        let back = d.compose(d.sigma);
+        let err = max_abs(&back.add(&f.scale(-1.0)));
+        assert!(err < 1e-9 * (1.0 + max_abs(&f)), "reconstruction error {err:e}");
+        for r in [d.u, d.v] {
+            assert!(max_abs(&r.transpose().mul(&r).add(&M3::identity().scale(-1.0))) < 1e-9);
+            assert!((r.det() - 1.0).abs() < 1e-9, "not a rotation: det {}", r.det());
+        }
+        let s = d.sigma;
+        assert!(s[0] >= s[1] - 1e-12 && s[1] >= s[2].abs() - 1e-12, "order {s:?}");
+        assert_eq!(s[2] < 0.0, f.det() < 0.0, "sign of σ₃ {s:?} vs det {}", f.det());
+    }
+    // Degenerate inputs stay finite.
+    for f in [M3::<f64>::zero(), M3::diag([1.0, 0.0, 0.0]), M3::diag([2.0, 2.0, 0.0])] {
+        let d = svd(&f);
+        assert!(d.sigma.iter().all(|x: &f64| x.is_finite()) && max_abs(&d.compose(d.sigma).add(&f.scale(-1.0))) < 1e-9);
+    }
+}
+
+#[test]
+fn rest_shape_has_zero_energy_and_stress() {
+    let id = M3::<f64>::identity();
+    for m in models() {
+        let psi = m.energy_density(&id);
+        let p = m.stress(&id);
+        assert!(psi.abs() < 1e-9 * E, "{:?}: Ψ(I) = {psi}", m.model);
+        assert!(max_abs(&p) < 1e-9 * E, "{:?}: P(I) = {p:?}", m.model);
+    }
+}
+
+/// Central differences of Ψ with respect to each entry of F.
+fn fd_stress(m: &Elastic, f: &M3<f64>) -> M3<f64> {
+    let h = 1e-6;
+    let mut out = M3::zero();
+    for c in 0..3 {
+        for r in 0..3 {
+            let (mut fp, mut fm) = (*f, *f);
+            fp.0[c][r] += h;
+            fm.0[c][r] -= h;
+            out.0[c][r] = (m.energy_density(&fp) - m.energy_density(&fm)) / (2.0 * h);
+        }
+    }
+    out
+}
+
+#[test]
+fn stress_matches_finite_differences_of_the_energy() {
+    let mut rng = SmallRng::seed_from_u64(2);
+    // Small and large deformations, compression, stretch, and mirrored (inverted) ones.
+    let cases: Vec<(f64, bool)> = vec![(0.05, false), (0.4, false), (0.8, false), (0.4, true), (0.8, true)];
+    for m in models() {
+        for &(spread, mirror) in &cases {
+            for _ in 0..100 {
+                let mut f = random_matrix(&mut rng, spread);
+                if mirror {
+                    for c in 0..3 {
+                        f.0[c][2] = -f.0[c][2];
+                    }
+                }
+                // Skip nearly repeated singular values, where the SVD's finite differences are
+                // ill-conditioned (the stress formula holds there too).
+                let s = svd(&f).sigma;
+                if (s[0] - s[1]).abs() < 1e-3 || (s[1] - s[2].abs()).abs() < 1e-3 || s[2].abs() < 1e-3 {
+                    continue;
+                }
+                let p = m.stress(&f);
+                let fd = fd_stress(&m, &f);
+                let err = max_abs(&p.add(&fd.scale(-1.0)));
+                let scale = max_abs(&fd).max(1e-3 * E);
+                assert!(
+                    err < 2e-5 * scale,
+                    "{:?} spread {spread} mirror {mirror}: |P − FD| = {err:e} of {scale:e}, σ = {s:?}",
+                    m.model
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn isotropic_models_are_rotation_invariant_and_the_linear_one_is_not() {
+    let mut rng = SmallRng::seed_from_u64(3);
+    for m in models() {
+        for _ in 0..50 {
+            let f = random_matrix(&mut rng, 0.4);
+            let angle = rng.random_range(0.1..3.0);
+            let r = rotation(&mut rng, angle);
+            let (a, b) = (m.energy_density(&f), m.energy_density(&r.mul(&f)));
+            if m.model == Model::Linear {
+                continue;
+            }
+            assert!((a - b).abs() < 1e-7 * a.abs().max(E * 1e-6), "{:?}: Ψ(F) = {a}, Ψ(RF) = {b}", m.model);
+        }
+    }
+    // The paper's linear model: a rotated rest shape has energy (not rotation invariant) ...
+    let lin = Elastic::new(Model::Linear, E, NU).unwrap();
+    let r = rotation(&mut rng, 0.5);
+    assert!(lin.energy_density(&r) > 1e-3 * E, "linear Ψ(R) = {}", lin.energy_density(&r));
+    // ... what it satisfies instead: invariance under translation (it sees only F) and under the
+    // linearised rotations I + tW (W skew), whose symmetric part is the identity: ε = 0 exactly,
+    // however large t, so it agrees with the rotation-invariant models only to first order.
+    let w = M3([[0.0, 0.3, -0.2], [-0.3, 0.0, 0.1], [0.2, -0.1, 0.0]]);
+    for t in [1e-3, 0.1, 1.0] {
+        let psi: f64 = lin.energy_density(&M3::identity().add(&w.scale(t)));
+        assert!(psi.abs() < 1e-12 * E, "Ψ(I + tW) = {psi} at t = {t}");
+    }
+}
+
+#[test]
+fn all_models_agree_at_small_strain() {
+    let mut rng = SmallRng::seed_from_u64(4);
+    let lin = Elastic::new(Model::Linear, E, NU).unwrap();
+    for _ in 0..50 {
+        // Symmetric small strain (no rotation), so the linear model is exact to second order.
+        let d = random_matrix(&mut rng, 1e-4).add(&M3::identity().scale(-1.0));
+        let f = M3::identity().add(&d.add(&d.transpose()).scale(0.5));
+        let reference = lin.energy_density(&f);
+        for m in models() {
+            let psi = m.energy_density(&f);
+            assert!((psi - reference).abs() < 2e-3 * reference, "{:?}: Ψ = {psi:e}, linear {reference:e}", m.model);
+        }
+    }
+}
+
+#[test]
+fn inverted_and_collapsed_elements_have_finite_restoring_stress() {
+    let mut rng = SmallRng::seed_from_u64(5);
+    for m in models().into_iter().filter(|m| m.model != Model::Linear) {
+        for i in 0..200 {
+            // Large random deformations mirrored: finite energy and stress.
+            let mut f = random_matrix(&mut rng, 0.6);
+            for c in 0..3 {
+                f.0[c][1] = -f.0[c][1];
+            }
+            let (psi, p) = (m.energy_density(&f), m.stress(&f));
+            assert!(psi.is_finite() && p.0.iter().flatten().all(|x: &f64| x.is_finite()), "{:?}", m.model);
+            // Near a mirrored rest shape (the mirrored cube), a small step down the energy
+            // gradient raises the negative singular value towards positive. (The volume can
+            // still shrink for StVK, whose λ term also expands the other directions.)
+            let mut f = random_matrix(&mut rng, 0.1);
+            for c in 0..3 {
+                f.0[c][i % 3] = -f.0[c][i % 3];
+            }
+            assert!(f.det() < 0.0);
+            let (psi, p) = (m.energy_density(&f), m.stress(&f));
+            assert!(psi > 0.0, "{:?}: Ψ = {psi} for an inverted element", m.model);
+            let step = f.add(&p.scale(-1e-3 / max_abs(&p)));
+            let (before, after) = (svd(&f).sigma[2], svd(&step).sigma[2]);
+            assert!(after > before, "{:?}: inverted singular value {before} → {after}", m.model);
+        }
+        for f in [M3::<f64>::zero(), M3::diag([1.0, 1.0, 0.0]), M3::diag([1.0, 0.0, 0.0]), M3::diag([1.0, 1.0, -1.0])] {
+            let (psi, p) = (m.energy_density(&f), m.stress(&f));
+            assert!(psi.is_finite() && p.0.iter().flatten().all(|x: &f64| x.is_finite()), "{:?} at {f:?}", m.model);
+        }
+    }
+}
+
+#[test]
+fn absurd_material_parameters_are_refused() {
+    for (e, nu) in [(-1.0, 0.3), (f64::NAN, 0.3), (1e5, 0.5), (1e5, -1.0), (0.0, 0.2)] {
+        let err = Elastic::new(Model::NeoHookean, e, nu).unwrap_err().to_string();
+        assert!(err.contains("--young") || err.contains("--poisson"), "{err}");
+    }
+}
