@@ -171,3 +171,45 @@ fn degenerate_elements_stay_finite() {
         assert!(pr.c.is_finite() && pr.grad.iter().all(|g| g.is_finite()), "{x:?}");
     }
 }
+
+fn random_tet(rng: &mut SmallRng) -> [Vec3; 4] {
+    loop {
+        let x = [0, 1, 2, 3].map(|_| rand_vec(rng, 0.5).as_vec3());
+        let d = (x[1] - x[0]).cross(x[2] - x[0]).dot(x[3] - x[0]);
+        if d.abs() > 0.05 {
+            return x;
+        }
+    }
+}
+
+#[test]
+fn tets_of_every_model_have_zero_energy_at_rest_and_exact_gradients() {
+    use eapbd::constraints::{Tet, TetParams};
+    use eapbd::material::{Elastic, Model};
+    let mut rng = SmallRng::seed_from_u64(6);
+    for model in Model::ALL {
+        let p = TetParams { elastic: Elastic::new(model, 1e4, 0.3).unwrap(), scale: 1e4 };
+        for _ in 0..50 {
+            let rest = random_tet(&mut rng);
+            let t = Tet::at_rest([0, 1, 2, 3], &rest).expect("non-degenerate");
+            let xr = rest.map(|v| v.as_dvec3());
+            let e0 = t.energy(&p, &xr);
+            assert!(e0.abs() < 1e-6, "{model:?}: energy {e0} at rest");
+            assert!(t.energy_gradient(&p, &xr).iter().all(|g| g.length() < 1e-3), "{model:?}: stress at rest");
+            // Deformed, including inverted: move each vertex by up to 40% of the size.
+            let mut y = xr;
+            for v in &mut y {
+                *v += rand_vec(&mut rng, 0.2);
+            }
+            check_gradients(&format!("{model:?} tet"), &t, &p, &y);
+        }
+    }
+    // Degenerate rest shapes are refused; collapsed current shapes stay finite.
+    assert!(Tet::at_rest([0, 1, 2, 3], &[Vec3::ZERO, Vec3::X, Vec3::X * 2.0, Vec3::Y]).is_none());
+    let t = Tet::at_rest([0, 1, 2, 3], &[Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z]).unwrap();
+    let p = TetParams { elastic: Elastic::new(Model::NeoHookean, 1e4, 0.3).unwrap(), scale: 1e4 };
+    let flat = [DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::new(0.3, 0.3, 0.0)];
+    assert!(t.energy(&p, &flat).is_finite() && t.energy_gradient(&p, &flat).iter().all(|g| g.is_finite()));
+    let pr = t.compliant(&p, &flat);
+    assert!(pr.c.is_finite() && pr.grad.iter().all(|g| g.is_finite()));
+}

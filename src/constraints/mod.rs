@@ -6,11 +6,13 @@
 
 pub mod bending;
 pub mod spring;
+pub mod tet;
 
 use crate::math::Vector;
 
 pub use bending::{Bend, BendParams};
 pub use spring::{Spring, SpringMaterial, SpringParams};
+pub use tet::{Tet, TetParams};
 
 /// How a constraint is projected (SPEC §2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
