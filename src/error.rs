@@ -38,6 +38,9 @@ pub enum Error {
     /// A GPU operation failed.
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// A feature that this backend or build does not provide yet.
+    #[error("not supported: {0}")]
+    Unsupported(String),
     /// A report could not be produced.
     #[error("report: {0}")]
     Report(String),

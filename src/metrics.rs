@@ -45,13 +45,8 @@ pub fn gravitational_about<V: Vector>(g: glam::Vec3, x_ref: glam::Vec3, x: &[V],
 
 /// RMS and maximum of the XPBD residual `|C_j + α̃ λ_j|` over every constraint of `scene`,
 /// with the multipliers `λ` of a substep run with constants `k`.
-pub fn residual<V: Vector>(
-    scene: &Scene,
-    x: &[V],
-    springs_lambda: &[V::S],
-    bends_lambda: &[V::S],
-    k: &StepConstants<V::S>,
-) -> (f64, f64) {
+pub fn residual<V: Vector>(scene: &Scene, x: &[V], lambdas: [&[V::S]; 3], k: &StepConstants<V::S>) -> (f64, f64) {
+    let [springs_lambda, bends_lambda, tets_lambda] = lambdas;
     let (mut sq, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
     let mut add = |r: V::S| {
         let r = r.to_f64();
@@ -69,6 +64,11 @@ pub fn residual<V: Vector>(
             add(crate::solver::residual(e, &f.params, x, l, k));
         }
     }
+    if let Some(f) = &scene.tets {
+        for (e, &l) in f.elements.iter().zip(tets_lambda) {
+            add(crate::solver::residual(e, &f.params, x, l, k));
+        }
+    }
     if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), max) }
 }
 
@@ -77,7 +77,9 @@ pub fn elastic_energy<V: Vector>(scene: &Scene, x: &[V]) -> f64 {
     fn family<E: Element<N>, V: Vector, const N: usize>(f: &Family<E, N>, x: &[V]) -> f64 {
         f.elements.iter().map(|e| e.energy(&f.params, &gather(x, e.particles())).to_f64()).sum()
     }
-    scene.springs.as_ref().map_or(0.0, |f| family(f, x)) + scene.bends.as_ref().map_or(0.0, |f| family(f, x))
+    scene.springs.as_ref().map_or(0.0, |f| family(f, x))
+        + scene.bends.as_ref().map_or(0.0, |f| family(f, x))
+        + scene.tets.as_ref().map_or(0.0, |f| family(f, x))
 }
 
 /// A simulation state to measure: positions, velocities, inverse masses, and the multipliers
@@ -90,10 +92,8 @@ pub struct StateView<'a, V: Vector> {
     pub v: &'a [V],
     /// Inverse masses (1/kg).
     pub w: &'a [V::S],
-    /// Spring multipliers.
-    pub springs_lambda: &'a [V::S],
-    /// Bending multipliers.
-    pub bends_lambda: &'a [V::S],
+    /// Multipliers: springs, bending, tetrahedra.
+    pub lambdas: [&'a [V::S]; 3],
     /// Constants of the last substep.
     pub constants: Option<&'a StepConstants<V::S>>,
     /// Work of physical dissipation since the start (J).
@@ -142,13 +142,11 @@ impl FrameStats {
     /// Measures a CPU solver's current state.
     pub fn measure<V: Vector>(solver: &CpuSolver<V>, frame: u32, time_ms: f64) -> Self {
         let p = &solver.particles;
-        let (springs_lambda, bends_lambda) = solver.lambdas();
         let state = StateView {
             x: &p.x,
             v: &p.v,
             w: &p.w,
-            springs_lambda,
-            bends_lambda,
+            lambdas: solver.lambdas(),
             constants: solver.last_constants(),
             dissipated: solver.ledger.dissipated,
         };
@@ -157,8 +155,7 @@ impl FrameStats {
 
     /// Measures any backend's state of `scene`.
     pub fn of_state<V: Vector>(scene: &Scene, s: &StateView<'_, V>, frame: u32, time_ms: f64) -> Self {
-        let (residual_rms, residual_max) =
-            s.constants.map_or((0.0, 0.0), |k| residual(scene, s.x, s.springs_lambda, s.bends_lambda, k));
+        let (residual_rms, residual_max) = s.constants.map_or((0.0, 0.0), |k| residual(scene, s.x, s.lambdas, k));
         let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.edge_rest, s.x);
         FrameStats {
             frame,

@@ -55,7 +55,7 @@ impl Simulation {
         Ok(match (backend, gpu) {
             (Backend::Cpu, _) => Simulation::Cpu(Box::new(CpuSolver::new(scene))),
             (Backend::Gpu, Some((ctx, k))) => {
-                Simulation::Gpu(Box::new(GpuSolver::new(k.clone(), &ctx.device, &ctx.queue, scene)))
+                Simulation::Gpu(Box::new(GpuSolver::new(k.clone(), &ctx.device, &ctx.queue, scene)?))
             }
             (Backend::Gpu, None) => return Err(Error::Gpu("the GPU backend needs a device".into())),
         })

@@ -30,7 +30,7 @@ fn compare(
 ) -> (f32, Vec<Vec3>) {
     let sc = scene::build(name, &opts).unwrap();
     let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
-    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let mut worst = 0.0f32;
     for frame in 1..=frames {
         cpu.step_frame(s);
@@ -92,7 +92,7 @@ fn contacts_match_the_cpu_as_closely_as_the_cpu_matches_itself() {
     let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
     let mut perturbed = CpuSolver::<Vec3>::new(sc.clone());
     perturbed.particles.x[800].x += 1e-6;
-    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let dist = |a: &[Vec3], b: &[Vec3]| a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max);
     for frame in 1..=120 {
         cpu.step_frame(&s);
@@ -137,7 +137,7 @@ fn compare_sensitive(
     let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
     let mut perturbed = CpuSolver::<Vec3>::new(sc.clone());
     perturbed.particles.x[sc.num_particles() / 2].x += 1e-6;
-    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let dist = |a: &[Vec3], b: &[Vec3]| a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max);
     let (mut ratio, mut worst) = (0.0f32, 0.0f32);
     for frame in 1..=frames {
@@ -184,7 +184,7 @@ fn gpu_energies_match_the_cpu() {
     let sc = scene::build("cloth-sphere", &SceneOptions { resolution: Some(21), ..SceneOptions::default() }).unwrap();
     let s = Settings { damping: 0.5, energy_aware: EnergyAware::Global, ..Settings::default() };
     let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
-    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc);
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     for frame in 1..=60 {
         cpu.step_frame(&s);
         gpu.step_frame(&s);

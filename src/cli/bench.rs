@@ -113,7 +113,7 @@ fn gpu_rows(warm: u32, frames: u32) -> anyhow::Result<()> {
     for (method, form) in [(Method::GaussSeidel, Form::Compliant), (Method::Jacobi, Form::Compliant)] {
         let scene = scene::build("cloth-paper", &SceneOptions::default())?;
         let s = Settings { iterations: 30, substeps: 1, method, form, ..Settings::default() };
-        let mut g = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, scene);
+        let mut g = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, scene)?;
         let mut t = Vec::with_capacity(frames as usize);
         for i in 0..warm + frames {
             let t0 = Instant::now();

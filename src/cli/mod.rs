@@ -9,6 +9,7 @@ use std::str::FromStr;
 
 use clap::{Args, Parser, Subcommand};
 use eapbd::constraints::{Form, SpringMaterial};
+use eapbd::material::Model;
 use eapbd::scene::SceneOptions;
 use eapbd::solver::{EnergyAware, Method, Settings};
 
@@ -39,10 +40,30 @@ pub(crate) fn named<T: FromStr<Err = eapbd::Error>>(s: &str) -> Result<T, eapbd:
     s.parse()
 }
 
+/// A material name from the command line: a spring model or a 3D model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MaterialArg {
+    /// Springs (cloth scenes).
+    Spring(SpringMaterial),
+    /// Tetrahedra (volumetric scenes).
+    Solid(Model),
+}
+
+fn material(s: &str) -> Result<MaterialArg, eapbd::Error> {
+    if let Ok(m) = s.parse::<SpringMaterial>() {
+        return Ok(MaterialArg::Spring(m));
+    }
+    s.parse::<Model>().map(MaterialArg::Solid).map_err(|_| eapbd::Error::UnknownName {
+        what: "material",
+        given: s.to_string(),
+        allowed: SpringMaterial::NAMES.into_iter().chain(Model::ALL.map(Model::name)).collect(),
+    })
+}
+
 /// Scene and solver options common to every command that runs a scene.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Scene: cloth, cloth-paper, cloth-sphere or cloth-free.
+    /// Scene: cloth, cloth-paper, cloth-sphere, cloth-free, beam or cube.
     #[arg(long, default_value = "cloth-paper")]
     pub scene: String,
     /// Particles per side of a cloth (default 41).
@@ -51,9 +72,16 @@ pub struct SceneArgs {
     /// Small-strain spring stiffness k_s (N/m).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0e4)]
     pub stiffness: f32,
-    /// Spring material: hookean or stvk-spring.
-    #[arg(long, default_value = "hookean", value_parser = named::<SpringMaterial>)]
-    pub material: SpringMaterial,
+    /// Material: hookean or stvk-spring (cloth scenes); linear, stvk, neo-hookean,
+    /// mooney-rivlin or arruda-boyce (beam, cube; default neo-hookean).
+    #[arg(long, value_parser = material)]
+    pub material: Option<MaterialArg>,
+    /// Young's modulus of the volumetric scenes (Pa).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2.0e6)]
+    pub young: f64,
+    /// Poisson's ratio of the volumetric scenes.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.3)]
+    pub poisson: f64,
     /// Dihedral bending stiffness k_b (N·m/rad); 0 disables. Default: 1e-3 for cloth and
     /// cloth-sphere, 0 for cloth-paper.
     #[arg(long, allow_negative_numbers = true)]
@@ -99,14 +127,30 @@ pub struct SceneArgs {
 
 impl SceneArgs {
     /// The scene options these arguments select.
-    pub fn scene_options(&self) -> SceneOptions {
-        SceneOptions {
+    pub fn scene_options(&self) -> eapbd::Result<SceneOptions> {
+        let solid_scene = matches!(self.scene.as_str(), "beam" | "cube");
+        let (material, solid) = match self.material {
+            Some(MaterialArg::Spring(m)) if solid_scene => {
+                return Err(eapbd::Error::param(
+                    "--material",
+                    m.name(),
+                    "is a spring model; beam and cube take linear, stvk, neo-hookean, mooney-rivlin or arruda-boyce",
+                ));
+            }
+            Some(MaterialArg::Spring(m)) => (m, None),
+            Some(MaterialArg::Solid(m)) => (SpringMaterial::Hookean, Some(m)),
+            None => (SpringMaterial::Hookean, None),
+        };
+        Ok(SceneOptions {
             resolution: self.resolution,
             stiffness: self.stiffness,
-            material: self.material,
+            material,
             bending_stiffness: self.bending_stiffness,
             gravity: !self.no_gravity,
-        }
+            solid,
+            young: self.young,
+            poisson: self.poisson,
+        })
     }
 
     /// The solver settings these arguments select, validated.

@@ -41,7 +41,7 @@ pub struct SimulateArgs {
 /// Runs the command.
 pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     let settings = a.scene.settings()?;
-    let scene = scene::build(&a.scene.scene, &a.scene.scene_options())?;
+    let scene = scene::build(&a.scene.scene, &a.scene.scene_options()?)?;
     let gpu = match a.backend {
         Backend::Gpu => {
             let ctx = GpuContext::new()?;
@@ -125,6 +125,9 @@ fn families(scene: &eapbd::scene::Scene) -> String {
     }
     if let Some(f) = &scene.bends {
         parts.push(format!("{} bending, {}", f.len(), f.stats));
+    }
+    if let Some(f) = &scene.tets {
+        parts.push(format!("{} tetrahedra, {}", f.len(), f.stats));
     }
     parts.join("; ")
 }

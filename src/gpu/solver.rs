@@ -138,8 +138,15 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 }
 
 impl GpuSolver {
-    /// Uploads `scene` to the device of `kernels`.
-    pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Self {
+    /// Uploads `scene` to the device of `kernels`. Tetrahedra are not on the GPU yet: a scene with
+    /// them is refused with [`Error::Unsupported`](crate::Error::Unsupported).
+    pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
+        if scene.tets.is_some() {
+            return Err(crate::Error::Unsupported(format!(
+                "scene {} has tetrahedra, which the GPU solver does not simulate yet; use --backend cpu",
+                scene.name
+            )));
+        }
         let n = scene.num_particles() as u32;
         let x4: Vec<Vec4> = scene.positions.iter().zip(&scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
         let bytes = bytemuck::cast_slice(&x4);
@@ -224,7 +231,7 @@ impl GpuSolver {
             }],
         });
         let gravity_shift = gravity_shift(&scene);
-        GpuSolver {
+        Ok(GpuSolver {
             kernels,
             device: device.clone(),
             queue: queue.clone(),
@@ -244,7 +251,7 @@ impl GpuSolver {
             gravity_shift,
             last: None,
             n,
-        }
+        })
     }
 
     /// The scene being simulated.
@@ -587,8 +594,7 @@ impl GpuSolver {
             x: &st.x,
             v: &st.v,
             w: &st.w,
-            springs_lambda: &st.springs_lambda,
-            bends_lambda: &st.bends_lambda,
+            lambdas: [&st.springs_lambda, &st.bends_lambda, &[]],
             constants: k.as_ref(),
             dissipated: st.dissipated,
         };

@@ -62,6 +62,13 @@ impl Model {
     }
 }
 
+impl std::str::FromStr for Model {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Error::lookup("3D material", s, &Model::ALL.map(|m| (m.name(), m)))
+    }
+}
+
 /// Singular values below this use the inversion extension.
 pub const SIGMA_MIN: f64 = 0.15;
 

@@ -2,10 +2,12 @@
 
 mod grid;
 mod obj;
+mod tetmesh;
 mod topology;
 
 pub use grid::grid;
 pub use obj::write_obj;
+pub use tetmesh::TetMesh;
 pub use topology::{dihedral_pairs, unique_edges};
 
 use glam::Vec3;

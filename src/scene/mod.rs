@@ -2,12 +2,13 @@
 
 mod cloth;
 mod family;
+mod solid;
 
 pub use family::Family;
 
 use glam::Vec3;
 
-use crate::constraints::{Bend, Spring, SpringMaterial};
+use crate::constraints::{Bend, Spring, SpringMaterial, Tet};
 use crate::error::{Error, Result};
 use crate::mesh::unique_edges;
 
@@ -52,6 +53,8 @@ pub struct Scene {
     pub springs: Option<Family<Spring, 2>>,
     /// Bending family, if the scene has bending.
     pub bends: Option<Family<Bend, 4>>,
+    /// Tetrahedra, if the scene has a volumetric body.
+    pub tets: Option<Family<Tet, 4>>,
     /// Ground plane, if any.
     pub ground: Option<Ground>,
     /// Sphere colliders.
@@ -75,6 +78,12 @@ pub struct SceneOptions {
     pub bending_stiffness: Option<f32>,
     /// Gravity on (9.81 m/s² downwards) or off.
     pub gravity: bool,
+    /// The 3D model of a volumetric scene (`None`: Neo-Hookean); cloth scenes refuse one.
+    pub solid: Option<crate::material::Model>,
+    /// Young's modulus of a volumetric scene (Pa).
+    pub young: f64,
+    /// Poisson's ratio of a volumetric scene.
+    pub poisson: f64,
 }
 
 impl Default for SceneOptions {
@@ -85,27 +94,49 @@ impl Default for SceneOptions {
             material: SpringMaterial::Hookean,
             bending_stiffness: None,
             gravity: true,
+            solid: None,
+            young: 2.0e6,
+            poisson: 0.3,
         }
     }
 }
 
 /// Names of the scenes [`build`] knows.
-pub const SCENES: [&str; 4] = ["cloth", "cloth-paper", "cloth-sphere", "cloth-free"];
+pub const SCENES: [&str; 6] = ["cloth", "cloth-paper", "cloth-sphere", "cloth-free", "beam", "cube"];
 
 /// Builds the scene called `name`.
 pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
     validate(opts)?;
+    #[derive(Clone, Copy)]
+    enum K {
+        Cloth(cloth::Kind),
+        Solid(solid::Kind),
+    }
     let kind = Error::lookup(
         "scene",
         name,
         &[
-            ("cloth", cloth::Kind::Hanging),
-            ("cloth-paper", cloth::Kind::Paper),
-            ("cloth-sphere", cloth::Kind::Sphere),
-            ("cloth-free", cloth::Kind::Free),
+            ("cloth", K::Cloth(cloth::Kind::Hanging)),
+            ("cloth-paper", K::Cloth(cloth::Kind::Paper)),
+            ("cloth-sphere", K::Cloth(cloth::Kind::Sphere)),
+            ("cloth-free", K::Cloth(cloth::Kind::Free)),
+            ("beam", K::Solid(solid::Kind::Beam)),
+            ("cube", K::Solid(solid::Kind::Cube)),
         ],
     )?;
-    cloth::build(kind, opts)
+    match kind {
+        K::Cloth(k) => {
+            if let Some(m) = opts.solid {
+                return Err(Error::param(
+                    "--material",
+                    m.name(),
+                    "is a volumetric model for beam and cube; cloth scenes take hookean or stvk-spring",
+                ));
+            }
+            cloth::build(k, opts)
+        }
+        K::Solid(k) => solid::build(k, opts),
+    }
 }
 
 fn validate(o: &SceneOptions) -> Result<()> {
@@ -133,7 +164,9 @@ impl Scene {
 
     /// Number of constraints over all families.
     pub fn num_constraints(&self) -> usize {
-        self.springs.as_ref().map_or(0, Family::len) + self.bends.as_ref().map_or(0, Family::len)
+        self.springs.as_ref().map_or(0, Family::len)
+            + self.bends.as_ref().map_or(0, Family::len)
+            + self.tets.as_ref().map_or(0, Family::len)
     }
 
     /// Stretch edges from triangles.

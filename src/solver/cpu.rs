@@ -57,6 +57,7 @@ pub struct CpuSolver<V: Vector> {
     pub particles: Particles<V>,
     springs: FamilyState<V::S>,
     bends: FamilyState<V::S>,
+    tets: FamilyState<V::S>,
     /// Jacobi's position corrections (allocated on first Jacobi step).
     dx: Vec<V>,
     jacobi_omega: Option<f32>,
@@ -76,6 +77,7 @@ impl<V: Vector> CpuSolver<V> {
             particles: Particles::from_scene(&scene),
             springs: state(scene.springs.as_ref().map_or(0, Family::len)),
             bends: state(scene.bends.as_ref().map_or(0, Family::len)),
+            tets: state(scene.tets.as_ref().map_or(0, Family::len)),
             dx: Vec::new(),
             jacobi_omega: None,
             local: None,
@@ -134,6 +136,7 @@ impl<V: Vector> CpuSolver<V> {
         self.predict(k.h);
         self.springs.lambda.fill(V::S::zero());
         self.bends.lambda.fill(V::S::zero());
+        self.tets.lambda.fill(V::S::zero());
         let local = s.energy_aware == EnergyAware::Local;
         if local {
             self.begin_local(k);
@@ -156,6 +159,10 @@ impl<V: Vector> CpuSolver<V> {
                     if let Some(f) = &self.scene.bends {
                         let ctx = l.map(|l| local_ctx(l, &self.bends.energy_start));
                         gauss_seidel(f, &mut self.bends.lambda, &mut self.particles, k, ctx);
+                    }
+                    if let Some(f) = &self.scene.tets {
+                        let ctx = l.map(|l| local_ctx(l, &self.tets.energy_start));
+                        gauss_seidel(f, &mut self.tets.lambda, &mut self.particles, k, ctx);
                     }
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
@@ -199,6 +206,9 @@ impl<V: Vector> CpuSolver<V> {
         }
         if let Some(f) = &self.scene.bends {
             self.bends.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
+        }
+        if let Some(f) = &self.scene.tets {
+            self.tets.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
         }
     }
 
@@ -255,6 +265,9 @@ impl<V: Vector> CpuSolver<V> {
         if let Some(f) = &self.scene.bends {
             self.bends.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
         }
+        if let Some(f) = &self.scene.tets {
+            self.tets.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
+        }
         self.dx = vec![V::ZERO; self.particles.len()];
     }
 
@@ -269,6 +282,10 @@ impl<V: Vector> CpuSolver<V> {
             let ctx = l.map(|l| local_ctx(l, &self.bends.energy_start));
             jacobi(f, &mut self.bends.lambda, &self.bends.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
         }
+        if let Some(f) = &self.scene.tets {
+            let ctx = l.map(|l| local_ctx(l, &self.tets.energy_start));
+            jacobi(f, &mut self.tets.lambda, &self.tets.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
+        }
         for (x, d) in self.particles.x.iter_mut().zip(&self.dx) {
             *x += *d;
         }
@@ -278,7 +295,12 @@ impl<V: Vector> CpuSolver<V> {
     /// multipliers of the last substep (SPEC §7). `(0, 0)` before the first step.
     pub fn residual(&self) -> (f64, f64) {
         let Some(k) = &self.last else { return (0.0, 0.0) };
-        metrics::residual(&self.scene, &self.particles.x, &self.springs.lambda, &self.bends.lambda, k)
+        metrics::residual(
+            &self.scene,
+            &self.particles.x,
+            [&self.springs.lambda, &self.bends.lambda, &self.tets.lambda],
+            k,
+        )
     }
 
     /// Total material energy of every constraint family (J), accumulated in `f64`.
@@ -286,9 +308,9 @@ impl<V: Vector> CpuSolver<V> {
         metrics::elastic_energy(&self.scene, &self.particles.x)
     }
 
-    /// Multipliers of the last substep: springs, bending.
-    pub fn lambdas(&self) -> (&[V::S], &[V::S]) {
-        (&self.springs.lambda, &self.bends.lambda)
+    /// Multipliers of the last substep: springs, bending, tetrahedra.
+    pub fn lambdas(&self) -> [&[V::S]; 3] {
+        [&self.springs.lambda, &self.bends.lambda, &self.tets.lambda]
     }
 
     /// Constants of the last substep run, if any.

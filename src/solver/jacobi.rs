@@ -14,6 +14,9 @@ pub fn constraint_counts(scene: &Scene) -> Vec<u32> {
     if let Some(f) = &scene.bends {
         f.elements.iter().for_each(|e| tally(&e.particles()));
     }
+    if let Some(f) = &scene.tets {
+        f.elements.iter().for_each(|e| tally(&e.particles()));
+    }
     count
 }
 

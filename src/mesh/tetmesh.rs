@@ -1,0 +1,96 @@
+//! Tetrahedral meshes: a box split into tetrahedra, and the boundary surface for drawing.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+/// A tetrahedral mesh in metres.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TetMesh {
+    /// Vertex positions (m).
+    pub positions: Vec<Vec3>,
+    /// Tetrahedra (vertex indices).
+    pub tets: Vec<[u32; 4]>,
+}
+
+impl TetMesh {
+    /// A box of `cells` cells per axis spanning `min..max`, each cell split into six tetrahedra
+    /// around its main diagonal (the Freudenthal split, conforming across cells).
+    pub fn box_grid(cells: [u32; 3], min: Vec3, max: Vec3) -> Self {
+        let [nx, ny, nz] = cells.map(|c| c.max(1));
+        let idx = |i: u32, j: u32, k: u32| i + (nx + 1) * (j + (ny + 1) * k);
+        let step = (max - min) / Vec3::new(nx as f32, ny as f32, nz as f32);
+        let mut positions = Vec::with_capacity(((nx + 1) * (ny + 1) * (nz + 1)) as usize);
+        for k in 0..=nz {
+            for j in 0..=ny {
+                for i in 0..=nx {
+                    positions.push(min + step * Vec3::new(i as f32, j as f32, k as f32));
+                }
+            }
+        }
+        let axes = [[1u32, 0, 0], [0, 1, 0], [0, 0, 1]];
+        let perms = [[0, 1, 2], [0, 2, 1], [1, 0, 2], [1, 2, 0], [2, 0, 1], [2, 1, 0]];
+        let mut tets = Vec::with_capacity((6 * nx * ny * nz) as usize);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    for p in perms {
+                        let mut c = [i, j, k];
+                        let mut t = [idx(i, j, k); 4];
+                        for (s, &axis) in p.iter().enumerate() {
+                            for d in 0..3 {
+                                c[d] += axes[axis][d];
+                            }
+                            t[s + 1] = idx(c[0], c[1], c[2]);
+                        }
+                        tets.push(t);
+                    }
+                }
+            }
+        }
+        TetMesh { positions, tets }
+    }
+
+    /// Faces that belong to one tetrahedron only, oriented outwards.
+    pub fn boundary(&self) -> Vec<[u32; 3]> {
+        let mut count: HashMap<[u32; 3], (u32, [u32; 3], u32)> = HashMap::new();
+        for t in &self.tets {
+            for skip in 0..4 {
+                let face: Vec<u32> = (0..4).filter(|&i| i != skip).map(|i| t[i]).collect();
+                let mut key = [face[0], face[1], face[2]];
+                key.sort_unstable();
+                let e = count.entry(key).or_insert((0, [face[0], face[1], face[2]], t[skip]));
+                e.0 += 1;
+            }
+        }
+        let mut faces: Vec<[u32; 3]> = count
+            .into_values()
+            .filter(|(n, _, _)| *n == 1)
+            .map(|(_, [a, b, c], opposite)| {
+                let (pa, pb, pc, pd) = (
+                    self.positions[a as usize],
+                    self.positions[b as usize],
+                    self.positions[c as usize],
+                    self.positions[opposite as usize],
+                );
+                if (pb - pa).cross(pc - pa).dot(pd - pa) > 0.0 { [a, c, b] } else { [a, b, c] }
+            })
+            .collect();
+        faces.sort_unstable();
+        faces
+    }
+
+    /// Lumped vertex masses for a density (kg/m³): each tetrahedron gives a quarter of its mass
+    /// to each corner.
+    pub fn lumped_masses(&self, density: f32) -> Vec<f32> {
+        let mut m = vec![0.0; self.positions.len()];
+        for t in &self.tets {
+            let [a, b, c, d] = t.map(|i| self.positions[i as usize]);
+            let v = ((b - a).cross(c - a).dot(d - a) / 6.0).abs();
+            for &i in t {
+                m[i as usize] += density * v / 4.0;
+            }
+        }
+        m
+    }
+}
