@@ -11,14 +11,6 @@ struct Bend {
 }
 
 @group(1) @binding(0) var<storage, read> bends: array<Bend>;
-@group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
-@group(1) @binding(2) var<storage, read> jacobi_scale: array<f32>;
-@group(1) @binding(3) var<storage, read_write> corr: array<vec4<f32>>;
-
-// Local energy-aware mode and energy reduction (see springs.wgsl).
-@group(3) @binding(0) var<storage, read> snapshots: array<vec4<f32>>;
-@group(3) @binding(1) var<storage, read_write> energy_start: array<f32>;
-@group(3) @binding(2) var<storage, read_write> partials: array<vec4<f32>>;
 
 const PI: f32 = 3.141592653589793;
 
@@ -106,15 +98,6 @@ fn bend_constraint(b: Bend, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec
 fn bend_energy(b: Bend, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec3<f32>) -> f32 {
     let d = wrapped(dihedral(p0, p1, p2, p3).theta, b.rest_angle);
     return 0.5 * b.k * d * d;
-}
-
-fn local_kinetic(i: u32, p: vec4<f32>) -> f32 {
-    if (p.w <= 0.0) {
-        return 0.0;
-    }
-    let cur = snapshots[i].xyz;
-    let prev = snapshots[params.num_particles + i].xyz;
-    return (dot(p.xyz - cur, p.xyz - cur) - dot(cur - prev, cur - prev)) / p.w;
 }
 
 // The local mode's C̃ for bend j (mirrors solver::cpu::local_adjusted).

@@ -8,16 +8,6 @@ struct Spring {
 }
 
 @group(1) @binding(0) var<storage, read> springs: array<Spring>;
-@group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
-@group(1) @binding(2) var<storage, read> jacobi_scale: array<f32>;
-@group(1) @binding(3) var<storage, read_write> corr: array<vec4<f32>>;
-
-// Local energy-aware mode: position snapshots at the start of this iteration ([0, n)) and of
-// the previous one ([n, 2n)), and each spring's energy at the start of the substep.
-@group(3) @binding(0) var<storage, read> snapshots: array<vec4<f32>>;
-@group(3) @binding(1) var<storage, read_write> energy_start: array<f32>;
-// Energy reduction: per-workgroup partial sums.
-@group(3) @binding(2) var<storage, read_write> partials: array<vec4<f32>>;
 
 struct SpringProj {
     c: f32,
@@ -77,17 +67,8 @@ fn spring_energy(s: Spring, xa: vec3<f32>, xb: vec3<f32>) -> f32 {
 // The local mode's C̃ for spring j (mirrors solver::cpu::local_adjusted).
 fn spring_local(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>, p: SpringProj) -> f32 {
     var kinetic = 0.0;
-    let n = params.num_particles;
-    if (xa.w > 0.0) {
-        let cur = snapshots[s.a].xyz;
-        let prev = snapshots[n + s.a].xyz;
-        kinetic += (dot(xa.xyz - cur, xa.xyz - cur) - dot(cur - prev, cur - prev)) / xa.w;
-    }
-    if (xb.w > 0.0) {
-        let cur = snapshots[s.b].xyz;
-        let prev = snapshots[n + s.b].xyz;
-        kinetic += (dot(xb.xyz - cur, xb.xyz - cur) - dot(cur - prev, cur - prev)) / xb.w;
-    }
+    kinetic += local_kinetic(s.a, xa);
+    kinetic += local_kinetic(s.b, xb);
     let r = 0.5 * kinetic * params.inv_h2 + (projected_energy(p.c, p.alpha) - energy_start[j]);
     return local_constraint(p.c, p.alpha, r);
 }

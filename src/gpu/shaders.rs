@@ -1,11 +1,17 @@
 //! WGSL sources, composed from `shaders/common/` and one stage file each, embedded at build time.
 
 /// Springs: Gauss-Seidel, Jacobi and λ reset kernels.
-pub const SPRINGS: &str =
-    concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/springs.wgsl"));
+pub const SPRINGS: &str = concat!(
+    include_str!("../../shaders/common/types.wgsl"),
+    include_str!("../../shaders/common/family.wgsl"),
+    include_str!("../../shaders/solver/springs.wgsl")
+);
 /// Dihedral bending kernels.
-pub const BENDING: &str =
-    concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/bending.wgsl"));
+pub const BENDING: &str = concat!(
+    include_str!("../../shaders/common/types.wgsl"),
+    include_str!("../../shaders/common/family.wgsl"),
+    include_str!("../../shaders/solver/bending.wgsl")
+);
 /// Per-particle kernels: predict, contacts, finish, Jacobi apply.
 pub const PARTICLES: &str =
     concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/particles.wgsl"));

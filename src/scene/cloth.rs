@@ -5,7 +5,7 @@ use glam::Vec3;
 use super::{Family, Ground, Scene, SceneOptions, Sphere};
 use crate::constraints::{Bend, BendParams, Spring, SpringParams};
 use crate::error::Result;
-use crate::mesh::{TriMesh, dihedral_pairs, grid};
+use crate::mesh::{TriMesh, dihedral_pairs, grid, unique_edges};
 
 /// Which cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -47,7 +47,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         _ => o.bending_stiffness.unwrap_or(DEFAULT_BENDING),
     };
     let np = mesh.positions.len();
-    let edges = Scene::edges_of(&mesh.triangles);
+    let edges = unique_edges(&mesh.triangles);
     let edge_rest: Vec<f32> =
         edges.iter().map(|&[a, b]| mesh.positions[a as usize].distance(mesh.positions[b as usize])).collect();
     let springs =

@@ -10,7 +10,6 @@ use glam::Vec3;
 
 use crate::constraints::{Bend, Spring, SpringMaterial, Tet};
 use crate::error::{Error, Result};
-use crate::mesh::unique_edges;
 
 /// A horizontal ground plane `y = height` with Coulomb friction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -167,11 +166,6 @@ impl Scene {
         self.springs.as_ref().map_or(0, Family::len)
             + self.bends.as_ref().map_or(0, Family::len)
             + self.tets.as_ref().map_or(0, Family::len)
-    }
-
-    /// Stretch edges from triangles.
-    pub(crate) fn edges_of(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
-        unique_edges(triangles)
     }
 
     /// Centre of mass of the free particles at the start (m): heights for gravitational energy
