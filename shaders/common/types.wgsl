@@ -27,11 +27,30 @@ struct SimParams {
     num_particles: u32,
     num_springs: u32,
     num_bends: u32,
-    // Over-relaxation ω applied to every Δλ.
+    // Over-relaxation ω applied to every Δλ; number of tetrahedra, their model (MODEL_* in
+    // shaders/material/models.wgsl) and the compliant form's stiffness scale s (Pa).
     sor: f32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    num_tets: u32,
+    tet_model: u32,
+    tet_scale: f32,
+    // Constants of the 3D model (Pa), precomputed in f64 as in src/material/models.rs: μ, 2μ,
+    // μ/2, λ, λ/2, Mooney-Rivlin μ₀₁/2, μ₁₀, ν₁, κ/2, Arruda-Boyce αᵢ.
+    mu: f32,
+    two_mu: f32,
+    half_mu: f32,
+    lambda: f32,
+    half_lambda: f32,
+    half_mu01: f32,
+    mu10: f32,
+    nu1: f32,
+    half_kappa: f32,
+    ab0: f32,
+    ab1: f32,
+    ab2: f32,
+    ab3: f32,
+    ab4: f32,
+    pad0: f32,
+    pad1: f32,
 }
 
 // The energy ledger (one per scene), written by the reduction's final kernel.
@@ -51,12 +70,14 @@ struct Ledger {
 }
 
 // Slots of the reduction's per-workgroup partial sums (x kinetic, y gravitational, z elastic,
-// w work): particles, springs, bending; at most REDUCE_GROUPS workgroups each.
+// w work): particles, springs, bending, tetrahedra; at most REDUCE_GROUPS workgroups each. Keep
+// PARTIAL_SLOTS in sync with src/gpu/kernels.rs.
 const REDUCE_GROUPS: u32 = 256u;
 const PARTIAL_PARTICLES: u32 = 0u;
 const PARTIAL_SPRINGS: u32 = 256u;
 const PARTIAL_BENDS: u32 = 512u;
-const PARTIAL_SLOTS: u32 = 768u;
+const PARTIAL_TETS: u32 = 768u;
+const PARTIAL_SLOTS: u32 = 1024u;
 
 // One dispatch's slice of a family (a color group, or all of it for Jacobi), bound with a
 // dynamic offset. slot_base: first Jacobi correction slot of the family.

@@ -12,6 +12,9 @@ struct Bend {
 
 @group(1) @binding(0) var<storage, read> bends: array<Bend>;
 
+const ARITY: u32 = 4u;
+const PARTIAL_FAMILY: u32 = PARTIAL_BENDS;
+
 const PI: f32 = 3.141592653589793;
 
 struct Dihedral {
@@ -95,147 +98,18 @@ fn bend_constraint(b: Bend, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec
     return out;
 }
 
-fn bend_energy(b: Bend, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec3<f32>) -> f32 {
-    let d = wrapped(dihedral(p0, p1, p2, p3).theta, b.rest_angle);
+fn element_particles(j: u32) -> array<u32, ARITY> {
+    let b = bends[j];
+    return array<u32, ARITY>(b.p0, b.p1, b.p2, b.p3);
+}
+
+fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
+    let pr = bend_constraint(bends[j], p[0], p[1], p[2], p[3]);
+    return Proj(pr.c, pr.alpha, array<vec3<f32>, ARITY>(pr.dh.g0, pr.dh.g1, pr.dh.g2, pr.dh.g3));
+}
+
+fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
+    let b = bends[j];
+    let d = wrapped(dihedral(p[0], p[1], p[2], p[3]).theta, b.rest_angle);
     return 0.5 * b.k * d * d;
-}
-
-// The local mode's C̃ for bend j (mirrors solver::cpu::local_adjusted).
-fn bend_local(j: u32, b: Bend, p0: vec4<f32>, p1: vec4<f32>, p2: vec4<f32>, p3: vec4<f32>, pr: BendProj) -> f32 {
-    var kinetic = 0.0;
-    kinetic += local_kinetic(b.p0, p0);
-    kinetic += local_kinetic(b.p1, p1);
-    kinetic += local_kinetic(b.p2, p2);
-    kinetic += local_kinetic(b.p3, p3);
-    let r = 0.5 * kinetic * params.inv_h2 + (projected_energy(pr.c, pr.alpha) - energy_start[j]);
-    return local_constraint(pr.c, pr.alpha, r);
-}
-
-// vec2(Δλ, applied) for bend j with projection pr.
-fn bend_update(j: u32, b: Bend, p0: vec4<f32>, p1: vec4<f32>, p2: vec4<f32>, p3: vec4<f32>, pr: BendProj) -> vec2<f32> {
-    let dd = pr.dh;
-    let alpha_tilde = pr.alpha * params.inv_h2;
-    let sum = p0.w * dot(dd.g0, dd.g0) + p1.w * dot(dd.g1, dd.g1) + p2.w * dot(dd.g2, dd.g2) + p3.w * dot(dd.g3, dd.g3);
-    var gamma = 0.0;
-    var gdx = 0.0;
-    if (params.beta > 0.0) {
-        gamma = pr.alpha * params.beta * params.inv_h;
-        gdx = dot(dd.g0, p0.xyz - x_prev[b.p0].xyz) + dot(dd.g1, p1.xyz - x_prev[b.p1].xyz)
-            + dot(dd.g2, p2.xyz - x_prev[b.p2].xyz) + dot(dd.g3, p3.xyz - x_prev[b.p3].xyz);
-    }
-    return delta_lambda(pr.c, sum, alpha_tilde, lambda[j], gamma, gdx);
-}
-
-fn bend_gs_apply(j: u32, b: Bend, p0: vec4<f32>, p1: vec4<f32>, p2: vec4<f32>, p3: vec4<f32>, pr: BendProj, r: vec2<f32>) {
-    if (r.y > 0.0) {
-        let d = r.x;
-        lambda[j] = lambda[j] + d;
-        x[b.p0] = vec4<f32>(p0.xyz + pr.dh.g0 * (p0.w * d), p0.w);
-        x[b.p1] = vec4<f32>(p1.xyz + pr.dh.g1 * (p1.w * d), p1.w);
-        x[b.p2] = vec4<f32>(p2.xyz + pr.dh.g2 * (p2.w * d), p2.w);
-        x[b.p3] = vec4<f32>(p3.xyz + pr.dh.g3 * (p3.w * d), p3.w);
-    }
-}
-
-fn bend_jacobi_store(j: u32, p0: vec4<f32>, p1: vec4<f32>, p2: vec4<f32>, p3: vec4<f32>, pr: BendProj, r: vec2<f32>) {
-    let d = r.x * jacobi_scale[j] * r.y;
-    lambda[j] = lambda[j] + d;
-    let slot = range.slot_base + 4u * j;
-    corr[slot] = vec4<f32>(pr.dh.g0 * (p0.w * d), 0.0);
-    corr[slot + 1u] = vec4<f32>(pr.dh.g1 * (p1.w * d), 0.0);
-    corr[slot + 2u] = vec4<f32>(pr.dh.g2 * (p2.w * d), 0.0);
-    corr[slot + 3u] = vec4<f32>(pr.dh.g3 * (p3.w * d), 0.0);
-}
-
-@compute @workgroup_size(64)
-fn bending_gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let j = range.start + t;
-        let b = bends[j];
-        let p0 = x[b.p0];
-        let p1 = x[b.p1];
-        let p2 = x[b.p2];
-        let p3 = x[b.p3];
-        let pr = bend_constraint(b, p0.xyz, p1.xyz, p2.xyz, p3.xyz);
-        bend_gs_apply(j, b, p0, p1, p2, p3, pr, bend_update(j, b, p0, p1, p2, p3, pr));
-    }
-}
-
-@compute @workgroup_size(64)
-fn bending_gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let j = range.start + t;
-        let b = bends[j];
-        let p0 = x[b.p0];
-        let p1 = x[b.p1];
-        let p2 = x[b.p2];
-        let p3 = x[b.p3];
-        var pr = bend_constraint(b, p0.xyz, p1.xyz, p2.xyz, p3.xyz);
-        pr.c = bend_local(j, b, p0, p1, p2, p3, pr);
-        bend_gs_apply(j, b, p0, p1, p2, p3, pr, bend_update(j, b, p0, p1, p2, p3, pr));
-    }
-}
-
-@compute @workgroup_size(64)
-fn bending_jacobi(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let j = range.start + t;
-        let b = bends[j];
-        let p0 = x[b.p0];
-        let p1 = x[b.p1];
-        let p2 = x[b.p2];
-        let p3 = x[b.p3];
-        let pr = bend_constraint(b, p0.xyz, p1.xyz, p2.xyz, p3.xyz);
-        bend_jacobi_store(j, p0, p1, p2, p3, pr, bend_update(j, b, p0, p1, p2, p3, pr));
-    }
-}
-
-@compute @workgroup_size(64)
-fn bending_jacobi_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let j = range.start + t;
-        let b = bends[j];
-        let p0 = x[b.p0];
-        let p1 = x[b.p1];
-        let p2 = x[b.p2];
-        let p3 = x[b.p3];
-        var pr = bend_constraint(b, p0.xyz, p1.xyz, p2.xyz, p3.xyz);
-        pr.c = bend_local(j, b, p0, p1, p2, p3, pr);
-        bend_jacobi_store(j, p0, p1, p2, p3, pr, bend_update(j, b, p0, p1, p2, p3, pr));
-    }
-}
-
-@compute @workgroup_size(64)
-fn bending_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        lambda[range.start + t] = 0.0;
-    }
-}
-
-@compute @workgroup_size(64)
-fn bending_local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let j = range.start + t;
-        let b = bends[j];
-        let pr = bend_constraint(b, x_prev[b.p0].xyz, x_prev[b.p1].xyz, x_prev[b.p2].xyz, x_prev[b.p3].xyz);
-        energy_start[j] = projected_energy(pr.c, pr.alpha);
-    }
-}
-
-@compute @workgroup_size(64)
-fn bending_energy(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) ng: vec3<u32>,
-) {
-    var acc = 0.0;
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let b = bends[range.start + t];
-        acc += bend_energy(b, x[b.p0].xyz, x[b.p1].xyz, x[b.p2].xyz, x[b.p3].xyz);
-    }
-    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc, 0.0));
-    if (lid.x == 0u) {
-        partials[PARTIAL_BENDS + wid.x] = total;
-    }
 }

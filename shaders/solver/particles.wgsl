@@ -180,6 +180,10 @@ fn energy_final(@builtin(local_invocation_id) lid: vec3<u32>) {
     for (var k = lid.x; k < nb; k += 64u) {
         acc += partials[PARTIAL_BENDS + k];
     }
+    let nt = reduce_count(params.num_tets);
+    for (var k = lid.x; k < nt; k += 64u) {
+        acc += partials[PARTIAL_TETS + k];
+    }
     let total = reduce_workgroup(lid.x, acc);
     if (lid.x == 0u) {
         let k1 = total.x;

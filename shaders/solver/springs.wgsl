@@ -104,7 +104,7 @@ fn jacobi_store(j: u32, xa: vec4<f32>, xb: vec4<f32>, r: vec4<f32>) {
 }
 
 @compute @workgroup_size(64)
-fn springs_gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let s = springs[j];
@@ -115,7 +115,7 @@ fn springs_gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
 }
 
 @compute @workgroup_size(64)
-fn springs_gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+fn gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let s = springs[j];
@@ -128,7 +128,7 @@ fn springs_gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @bu
 }
 
 @compute @workgroup_size(64)
-fn springs_jacobi(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+fn jacobi(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let s = springs[j];
@@ -139,7 +139,7 @@ fn springs_jacobi(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
 }
 
 @compute @workgroup_size(64)
-fn springs_jacobi_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+fn jacobi_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let s = springs[j];
@@ -153,7 +153,7 @@ fn springs_jacobi_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(
 
 // λ = 0.
 @compute @workgroup_size(64)
-fn springs_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+fn clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         lambda[range.start + t] = 0.0;
     }
@@ -161,7 +161,7 @@ fn springs_clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wor
 
 // Local mode: each spring's energy at the start of the substep.
 @compute @workgroup_size(64)
-fn springs_local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+fn local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let s = springs[j];
@@ -172,7 +172,7 @@ fn springs_local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(n
 
 // Partial sums of the springs' material energy.
 @compute @workgroup_size(64)
-fn springs_energy(
+fn energy(
     @builtin(global_invocation_id) gid: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
     @builtin(workgroup_id) wid: vec3<u32>,

@@ -36,8 +36,48 @@ pub struct Kernels {
     jacobi_apply: OnceLock<wgpu::ComputePipeline>,
     local: OnceLock<LocalKernels>,
     energy: OnceLock<EnergyKernels>,
-    springs: OnceLock<FamilyKernels>,
-    bending: OnceLock<FamilyKernels>,
+    families: [OnceLock<FamilyKernels>; 3],
+}
+
+/// The constraint families the GPU solver runs, in the CPU's order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FamilyKind {
+    /// Springs.
+    Springs,
+    /// Dihedral bending.
+    Bending,
+    /// Tetrahedra.
+    Tets,
+}
+
+impl FamilyKind {
+    /// Every family, in solve order.
+    pub const ALL: [FamilyKind; 3] = [FamilyKind::Springs, FamilyKind::Bending, FamilyKind::Tets];
+
+    /// The family's name (its WGSL module and buffer labels).
+    pub fn name(self) -> &'static str {
+        match self {
+            FamilyKind::Springs => "springs",
+            FamilyKind::Bending => "bending",
+            FamilyKind::Tets => "tets",
+        }
+    }
+
+    /// Particles per element.
+    pub fn arity(self) -> u32 {
+        match self {
+            FamilyKind::Springs => 2,
+            FamilyKind::Bending | FamilyKind::Tets => 4,
+        }
+    }
+
+    fn source(self) -> &'static str {
+        match self {
+            FamilyKind::Springs => shaders::SPRINGS,
+            FamilyKind::Bending => shaders::BENDING,
+            FamilyKind::Tets => shaders::TETS,
+        }
+    }
 }
 
 /// Per-particle kernels of the local energy-aware mode.
@@ -114,16 +154,17 @@ fn layout(device: &wgpu::Device, label: &str, entries: &[wgpu::BindGroupLayoutEn
 fn pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
+    label: &str,
     entry: &str,
     groups: &[Option<&wgpu::BindGroupLayout>],
 ) -> wgpu::ComputePipeline {
     let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(entry),
+        label: Some(label),
         bind_group_layouts: groups,
         immediate_size: 0,
     });
     device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(entry),
+        label: Some(label),
         layout: Some(&layout),
         module,
         entry_point: Some(entry),
@@ -170,16 +211,15 @@ impl Kernels {
         let particles_module = shader_module(device, "particles", shaders::PARTICLES);
         let p = Some(&particles_layout);
         Kernels {
-            predict: pipeline(device, &particles_module, "predict", &[p]),
-            contacts: pipeline(device, &particles_module, "contacts", &[p]),
-            finish: pipeline(device, &particles_module, "finish", &[p]),
+            predict: pipeline(device, &particles_module, "predict", "predict", &[p]),
+            contacts: pipeline(device, &particles_module, "contacts", "contacts", &[p]),
+            finish: pipeline(device, &particles_module, "finish", "finish", &[p]),
             device: device.clone(),
             particles_module,
             jacobi_apply: OnceLock::new(),
             local: OnceLock::new(),
             energy: OnceLock::new(),
-            springs: OnceLock::new(),
-            bending: OnceLock::new(),
+            families: Default::default(),
             particles_layout,
             family_layout,
             family_jacobi_layout,
@@ -196,8 +236,8 @@ impl Kernels {
         self.local.get_or_init(|| {
             let groups = [Some(&self.particles_layout), None, None, Some(&self.local_particles_layout)];
             LocalKernels {
-                begin: pipeline(&self.device, &self.particles_module, "local_begin", &groups),
-                snapshot: pipeline(&self.device, &self.particles_module, "local_snapshot", &groups),
+                begin: pipeline(&self.device, &self.particles_module, "local_begin", "local_begin", &groups),
+                snapshot: pipeline(&self.device, &self.particles_module, "local_snapshot", "local_snapshot", &groups),
             }
         })
     }
@@ -209,9 +249,15 @@ impl Kernels {
             let e = Some(&self.energy_layout);
             let m = &self.particles_module;
             EnergyKernels {
-                particles: pipeline(&self.device, m, "energy_particles", &[p, None, None, e]),
-                total: pipeline(&self.device, m, "energy_final", &[p, None, Some(&self.range_layout), e]),
-                apply_scale: pipeline(&self.device, m, "apply_scale", &[p, None, None, e]),
+                particles: pipeline(&self.device, m, "energy_particles", "energy_particles", &[p, None, None, e]),
+                total: pipeline(
+                    &self.device,
+                    m,
+                    "energy_final",
+                    "energy_final",
+                    &[p, None, Some(&self.range_layout), e],
+                ),
+                apply_scale: pipeline(&self.device, m, "apply_scale", "apply_scale", &[p, None, None, e]),
             }
         })
     }
@@ -220,28 +266,23 @@ impl Kernels {
     pub fn jacobi_apply(&self) -> &wgpu::ComputePipeline {
         self.jacobi_apply.get_or_init(|| {
             let groups = [Some(&self.particles_layout), Some(&self.apply_layout)];
-            pipeline(&self.device, &self.particles_module, "jacobi_apply", &groups)
+            pipeline(&self.device, &self.particles_module, "jacobi_apply", "jacobi_apply", &groups)
         })
     }
 
-    /// The spring kernels (built on first use).
-    pub fn springs(&self) -> &FamilyKernels {
-        self.springs.get_or_init(|| self.family(shaders::SPRINGS, "springs"))
+    /// The kernels of family `kind` (built on first use).
+    pub fn family(&self, kind: FamilyKind) -> &FamilyKernels {
+        self.families[kind as usize].get_or_init(|| self.build_family(kind.source(), kind.name()))
     }
 
-    /// The bending kernels (built on first use).
-    pub fn bending(&self) -> &FamilyKernels {
-        self.bending.get_or_init(|| self.family(shaders::BENDING, "bending"))
-    }
-
-    fn family(&self, source: &str, name: &str) -> FamilyKernels {
+    fn build_family(&self, source: &str, name: &str) -> FamilyKernels {
         let m = shader_module(&self.device, name, source);
         let p = Some(&self.particles_layout);
         let r = Some(&self.range_layout);
         let (f, fj) = (Some(&self.family_layout), Some(&self.family_jacobi_layout));
         let (local, energy) = (Some(&self.local_family_layout), Some(&self.energy_layout));
         let make = |entry: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
-            pipeline(&self.device, &m, &format!("{name}_{entry}"), groups)
+            pipeline(&self.device, &m, &format!("{name}_{entry}"), entry, groups)
         };
         FamilyKernels {
             gauss_seidel: make("gauss_seidel", &[p, f, r]),
@@ -259,6 +300,9 @@ impl Kernels {
 pub(crate) fn groups(count: u32) -> u32 {
     count.div_ceil(64).clamp(1, 65535)
 }
+
+/// Partial-sum slots of the energy reduction (`PARTIAL_SLOTS` in `shaders/common/types.wgsl`).
+pub(crate) const PARTIAL_SLOTS: usize = 1024;
 
 /// Workgroups of an energy reduction over `count` items (at most 256 partial sums each; keep in
 /// sync with `REDUCE_GROUPS` in `shaders/common/types.wgsl`).

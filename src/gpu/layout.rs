@@ -3,6 +3,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use crate::constraints::{Form, SpringMaterial};
+use crate::material::{Elastic, Model};
 use crate::scene::{Scene, Sphere};
 use crate::solver::Settings;
 
@@ -48,11 +49,43 @@ pub struct SimParams {
     pub num_bends: u32,
     /// Over-relaxation `ω`.
     pub sor: f32,
-    /// Padding.
-    pub pad: [u32; 3],
+    /// Number of tetrahedra.
+    pub num_tets: u32,
+    /// The tetrahedra's model, its index in [`Model::ALL`].
+    pub tet_model: u32,
+    /// The compliant form's stiffness scale `s` of the tetrahedra (Pa).
+    pub tet_scale: f32,
+    /// Constants of the 3D model (Pa): `[μ, 2μ, μ/2, λ, λ/2, μ₀₁/2, μ₁₀, ν₁, κ/2, α₁..α₅, 0, 0]`
+    /// (Mooney-Rivlin and Arruda-Boyce as in [`crate::material::Elastic`]), each rounded once
+    /// from `f64` as on the CPU.
+    pub elastic: [f32; 16],
 }
 
-const _: () = assert!(std::mem::size_of::<SimParams>() == 112);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 176);
+
+/// The 3D model's constants as [`SimParams::elastic`] holds them.
+fn elastic_constants(e: &Elastic) -> [f32; 16] {
+    let ab = e.arruda_boyce_alphas();
+    let c = [
+        e.mu,
+        2.0 * e.mu,
+        0.5 * e.mu,
+        e.lambda,
+        0.5 * e.lambda,
+        0.5 * e.mu01,
+        e.mu10,
+        e.nu1,
+        0.5 * e.kappa,
+        ab[0],
+        ab[1],
+        ab[2],
+        ab[3],
+        ab[4],
+        0.0,
+        0.0,
+    ];
+    c.map(|v| v as f32)
+}
 
 /// The energy ledger (`Ledger` in WGSL).
 #[repr(C)]
@@ -84,6 +117,7 @@ impl SimParams {
         let h = s.h();
         let material = scene.springs.as_ref().map_or(SpringMaterial::Hookean, |f| f.params.material);
         let ground = scene.ground;
+        let tets = scene.tets.as_ref().map(|f| &f.params);
         SimParams {
             gravity: scene.gravity.extend(0.0).to_array(),
             rest_com: scene.rest_center_of_mass().extend(0.0).to_array(),
@@ -104,7 +138,10 @@ impl SimParams {
             num_springs: scene.springs.as_ref().map_or(0, |f| f.len() as u32),
             num_bends: scene.bends.as_ref().map_or(0, |f| f.len() as u32),
             sor: s.sor,
-            pad: [0; 3],
+            num_tets: scene.tets.as_ref().map_or(0, |f| f.len() as u32),
+            tet_model: tets.map_or(0, |p| Model::ALL.iter().position(|&m| m == p.elastic.model).unwrap_or(0) as u32),
+            tet_scale: tets.map_or(1.0, |p| p.scale as f32),
+            elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
         }
     }
 }

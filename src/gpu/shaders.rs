@@ -10,7 +10,19 @@ pub const SPRINGS: &str = concat!(
 pub const BENDING: &str = concat!(
     include_str!("../../shaders/common/types.wgsl"),
     include_str!("../../shaders/common/family.wgsl"),
-    include_str!("../../shaders/solver/bending.wgsl")
+    include_str!("../../shaders/solver/bending.wgsl"),
+    include_str!("../../shaders/common/element.wgsl")
+);
+/// Tetrahedra with the 3D elastic models: the shared element kernels over signed SVD and the
+/// models' energy and stress.
+pub const TETS: &str = concat!(
+    include_str!("../../shaders/common/types.wgsl"),
+    include_str!("../../shaders/common/family.wgsl"),
+    include_str!("../../shaders/material/svd.wgsl"),
+    include_str!("../../shaders/material/hyperdual.wgsl"),
+    include_str!("../../shaders/material/models.wgsl"),
+    include_str!("../../shaders/solver/tets.wgsl"),
+    include_str!("../../shaders/common/element.wgsl")
 );
 /// Per-particle kernels: predict, contacts, finish, Jacobi apply.
 pub const PARTICLES: &str =
@@ -25,9 +37,10 @@ pub const GROUND: &str =
     concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/ground.wgsl"));
 
 /// Every composed module with its name, for validation.
-pub const ALL: [(&str, &str); 6] = [
+pub const ALL: [(&str, &str); 7] = [
     ("springs", SPRINGS),
     ("bending", BENDING),
+    ("tets", TETS),
     ("particles", PARTICLES),
     ("normals", NORMALS),
     ("mesh", MESH),

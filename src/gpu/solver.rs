@@ -5,13 +5,13 @@ use std::sync::Arc;
 use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
-use super::kernels::{FamilyKernels, Kernels, groups, reduce_groups};
+use super::kernels::{FamilyKernels, FamilyKind, Kernels, PARTIAL_SLOTS, groups, reduce_groups};
 use super::layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
 use super::readback::read_buffer;
 use crate::constraints::Element;
 use crate::error::Result;
 use crate::metrics::{FrameStats, StateView};
-use crate::scene::Scene;
+use crate::scene::{Family, Scene};
 use crate::solver::{EnergyAware, Method, Settings, StepConstants, jacobi};
 
 /// Stride of the dispatch-range table (the uniform offset alignment).
@@ -20,6 +20,7 @@ const RANGE_STRIDE: u64 = 256;
 /// Buffers of one constraint family on the GPU.
 #[derive(Debug)]
 struct GpuFamily {
+    kind: FamilyKind,
     elements: wgpu::Buffer,
     lambda: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
@@ -28,9 +29,8 @@ struct GpuFamily {
     /// Dynamic offset of the whole-family range entry.
     all_offset: u32,
     len: u32,
-    /// First Jacobi correction slot and slots per element.
+    /// First Jacobi correction slot.
     slot_base: u32,
-    arity: u32,
     /// Sizes of the color groups, in order.
     color_sizes: Vec<u32>,
     jacobi: Option<(wgpu::Buffer, wgpu::BindGroup)>,
@@ -80,6 +80,8 @@ pub struct GpuState {
     pub springs_lambda: Vec<f32>,
     /// Bending multipliers of the last substep.
     pub bends_lambda: Vec<f32>,
+    /// Tetrahedra multipliers of the last substep.
+    pub tets_lambda: Vec<f32>,
     /// Work of physical dissipation since the start (J), summed over particles.
     pub dissipated: f64,
 }
@@ -98,8 +100,8 @@ pub struct GpuSolver {
     params: wgpu::Buffer,
     particles_bind_group: wgpu::BindGroup,
     range_bind_group: wgpu::BindGroup,
-    springs: Option<GpuFamily>,
-    bends: Option<GpuFamily>,
+    /// The scene's families, in solve order.
+    families: Vec<GpuFamily>,
     jacobi: Option<JacobiBuffers>,
     energy: Option<EnergyBuffers>,
     /// Local mode: group 3 of the per-particle kernels (snapshots).
@@ -138,15 +140,8 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 }
 
 impl GpuSolver {
-    /// Uploads `scene` to the device of `kernels`. Tetrahedra are not on the GPU yet: a scene with
-    /// them is refused with [`Error::Unsupported`](crate::Error::Unsupported).
+    /// Uploads `scene` to the device of `kernels`.
     pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
-        if scene.tets.is_some() {
-            return Err(crate::Error::Unsupported(format!(
-                "scene {} has tetrahedra, which the GPU solver does not simulate yet; use --backend cpu",
-                scene.name
-            )));
-        }
         let n = scene.num_particles() as u32;
         let x4: Vec<Vec4> = scene.positions.iter().zip(&scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
         let bytes = bytemuck::cast_slice(&x4);
@@ -169,7 +164,8 @@ impl GpuSolver {
         // The dispatch-range table: each family's color groups, then the whole family.
         let mut ranges: Vec<DispatchRange> = Vec::new();
         let mut slot_base = 0u32;
-        let mut family = |label: &str, len: usize, colors: &[std::ops::Range<u32>], arity: u32, bytes: &[u8]| {
+        let mut family = |kind: FamilyKind, len: usize, colors: &[std::ops::Range<u32>], bytes: &[u8]| {
+            let label = kind.name();
             let elements = storage_buffer(device, label, bytes, wgpu::BufferUsages::empty());
             let lambda = storage_buffer(device, "lambda", &vec![0u8; len * 4], wgpu::BufferUsages::empty());
             let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -185,6 +181,7 @@ impl GpuSolver {
             let all_offset = (ranges.len() as u64 * RANGE_STRIDE) as u32;
             ranges.push(DispatchRange { start: 0, count: len as u32, slot_base, pad: 0 });
             let f = GpuFamily {
+                kind,
                 elements,
                 lambda,
                 bind_group,
@@ -192,18 +189,24 @@ impl GpuSolver {
                 all_offset,
                 len: len as u32,
                 slot_base,
-                arity,
                 color_sizes: colors.iter().map(|r| r.end - r.start).collect(),
                 jacobi: None,
                 local: None,
             };
-            slot_base += arity * len as u32;
+            slot_base += kind.arity() * len as u32;
             f
         };
-        let springs =
-            scene.springs.as_ref().map(|f| family("springs", f.len(), &f.colors, 2, bytemuck::cast_slice(&f.elements)));
-        let bends =
-            scene.bends.as_ref().map(|f| family("bending", f.len(), &f.colors, 4, bytemuck::cast_slice(&f.elements)));
+        let families: Vec<GpuFamily> = FamilyKind::ALL
+            .into_iter()
+            .filter_map(|kind| {
+                let (len, colors, bytes) = match kind {
+                    FamilyKind::Springs => scene.springs.as_ref().map(upload)?,
+                    FamilyKind::Bending => scene.bends.as_ref().map(upload)?,
+                    FamilyKind::Tets => scene.tets.as_ref().map(upload)?,
+                };
+                Some(family(kind, len, colors, bytes))
+            })
+            .collect();
         let total_offsets = [0u32, 1, 2].map(|mode| {
             ranges.push(DispatchRange { start: mode, count: 0, slot_base: 0, pad: 0 });
             ((ranges.len() as u64 - 1) * RANGE_STRIDE) as u32
@@ -241,8 +244,7 @@ impl GpuSolver {
             params,
             particles_bind_group,
             range_bind_group,
-            springs,
-            bends,
+            families,
             jacobi: None,
             energy: None,
             local: None,
@@ -282,9 +284,7 @@ impl GpuSolver {
         let init_ledger = global && !self.ledger_valid;
         self.ledger_valid = global;
         let k = &*self.kernels;
-        let springs = self.springs.as_ref().map(|f| (f, k.springs()));
-        let bends = self.bends.as_ref().map(|f| (f, k.bending()));
-        let families: Vec<(&GpuFamily, &FamilyKernels)> = springs.into_iter().chain(bends).collect();
+        let families = self.with_kernels();
         let particle_groups = groups(self.n);
         let mut pass =
             encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
@@ -396,12 +396,18 @@ impl GpuSolver {
         pass.dispatch_workgroups(1, 1, 1);
     }
 
+    /// The scene's families with their kernels.
+    fn with_kernels(&self) -> Vec<(&GpuFamily, &FamilyKernels)> {
+        self.families.iter().map(|f| (f, self.kernels.family(f.kind))).collect()
+    }
+
     /// Allocates the reduction's buffers (once).
     fn prepare_energy(&mut self) {
         if self.energy.is_some() {
             return;
         }
-        let partials = storage_buffer(&self.device, "energy partials", &[0u8; 768 * 16], wgpu::BufferUsages::empty());
+        let partials =
+            storage_buffer(&self.device, "energy partials", &[0u8; PARTIAL_SLOTS * 16], wgpu::BufferUsages::empty());
         let ledger = storage_buffer(&self.device, "energy ledger", &[0u8; 32], wgpu::BufferUsages::empty());
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("energy"),
@@ -423,7 +429,7 @@ impl GpuSolver {
             layout: &self.kernels.local_particles_layout,
             entries: &[entry(0, &snapshots)],
         }));
-        for f in [&mut self.springs, &mut self.bends].into_iter().flatten() {
+        for f in &mut self.families {
             let start = storage_buffer(
                 &self.device,
                 "energy at start",
@@ -441,10 +447,7 @@ impl GpuSolver {
     /// Energies by the GPU reduction (records one, waits and reads the ledger back).
     pub fn energies(&mut self) -> Result<GpuEnergies> {
         self.prepare_energy();
-        let k = &*self.kernels;
-        let springs = self.springs.as_ref().map(|f| (f, k.springs()));
-        let bends = self.bends.as_ref().map(|f| (f, k.bending()));
-        let families: Vec<(&GpuFamily, &FamilyKernels)> = springs.into_iter().chain(bends).collect();
+        let families = self.with_kernels();
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("energy") });
         {
             let mut pass = encoder
@@ -467,12 +470,9 @@ impl GpuSolver {
 
     /// Dispatches one frame needs under `s` (for reports).
     pub fn dispatches_per_frame(&self, s: &Settings) -> u64 {
-        let fams = [&self.springs, &self.bends];
-        let present = fams.iter().filter(|f| f.is_some()).count() as u64;
+        let present = self.families.len() as u64;
         let per_iteration = match s.method {
-            Method::GaussSeidel => {
-                fams.iter().flat_map(|f| f.iter()).map(|f| f.color_offsets.len() as u64).sum::<u64>()
-            }
+            Method::GaussSeidel => self.families.iter().map(|f| f.color_offsets.len() as u64).sum::<u64>(),
             Method::Jacobi => present + 1,
         } + 1;
         let energy = match s.energy_aware {
@@ -497,20 +497,27 @@ impl GpuSolver {
         }
         let count = jacobi::constraint_counts(&self.scene);
         // For each particle, the correction slots touching it in the CPU's summation order
-        // (springs, then bending; elements in order).
+        // (families in solve order, elements in order); and each family's scales.
         let mut lists: Vec<Vec<u32>> = vec![Vec::new(); self.n as usize];
-        let mut spring_scales = Vec::new();
-        let mut bend_scales = Vec::new();
-        if let (Some(f), Some(g)) = (&self.scene.springs, &self.springs) {
-            incidence(&f.elements, g.slot_base, &mut lists);
-            spring_scales = jacobi::scales(&f.elements, &count, omega);
+        let mut scales = Vec::with_capacity(self.families.len());
+        for f in &self.families {
+            let scene = &self.scene;
+            scales.push(
+                match f.kind {
+                    FamilyKind::Springs => {
+                        scene.springs.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
+                    }
+                    FamilyKind::Bending => {
+                        scene.bends.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
+                    }
+                    FamilyKind::Tets => {
+                        scene.tets.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
+                    }
+                }
+                .unwrap_or_default(),
+            );
         }
-        if let (Some(f), Some(g)) = (&self.scene.bends, &self.bends) {
-            incidence(&f.elements, g.slot_base, &mut lists);
-            bend_scales = jacobi::scales(&f.elements, &count, omega);
-        }
-        let total_slots: u32 =
-            [&self.springs, &self.bends].iter().flat_map(|f| f.iter()).map(|f| f.arity * f.len).sum();
+        let total_slots: u32 = self.families.iter().map(|f| f.kind.arity() * f.len).sum();
         let corr = storage_buffer(
             &self.device,
             "jacobi corrections",
@@ -537,8 +544,8 @@ impl GpuSolver {
             layout: &self.kernels.apply_layout,
             entries: &[entry(0, &corr), entry(1, &offsets), entry(2, &slots)],
         });
-        for (fam, sc) in [(&mut self.springs, spring_scales), (&mut self.bends, bend_scales)] {
-            if let Some(f) = fam {
+        for (f, sc) in self.families.iter_mut().zip(scales) {
+            {
                 let scale = storage_buffer(
                     &self.device,
                     "jacobi scale",
@@ -560,8 +567,8 @@ impl GpuSolver {
     pub fn read_state(&self) -> Result<GpuState> {
         let x: Vec<Vec4> = read_buffer(&self.device, &self.queue, &self.x)?;
         let v: Vec<Vec4> = read_buffer(&self.device, &self.queue, &self.v)?;
-        let lambda = |f: &Option<GpuFamily>| -> Result<Vec<f32>> {
-            match f {
+        let lambda = |kind: FamilyKind| -> Result<Vec<f32>> {
+            match self.families.iter().find(|f| f.kind == kind) {
                 Some(f) => {
                     let mut l: Vec<f32> = read_buffer(&self.device, &self.queue, &f.lambda)?;
                     l.truncate(f.len as usize);
@@ -575,8 +582,9 @@ impl GpuSolver {
             x: x.iter().map(|p| p.truncate()).collect(),
             v: v.iter().map(|p| p.truncate()).collect(),
             dissipated: v.iter().map(|p| p.w as f64).sum(),
-            springs_lambda: lambda(&self.springs)?,
-            bends_lambda: lambda(&self.bends)?,
+            springs_lambda: lambda(FamilyKind::Springs)?,
+            bends_lambda: lambda(FamilyKind::Bending)?,
+            tets_lambda: lambda(FamilyKind::Tets)?,
         })
     }
 
@@ -594,7 +602,7 @@ impl GpuSolver {
             x: &st.x,
             v: &st.v,
             w: &st.w,
-            lambdas: [&st.springs_lambda, &st.bends_lambda, &[]],
+            lambdas: [&st.springs_lambda, &st.bends_lambda, &st.tets_lambda],
             constants: k.as_ref(),
             dissipated: st.dissipated,
         };
@@ -602,11 +610,24 @@ impl GpuSolver {
     }
 }
 
-/// Appends, for each particle, the correction slots of `elements` that touch it.
-fn incidence<E: Element<N>, const N: usize>(elements: &[E], slot_base: u32, lists: &mut [Vec<u32>]) {
-    for (j, e) in elements.iter().enumerate() {
+/// Appends, for each particle, the correction slots of `f`'s elements that touch it, and returns
+/// the elements' Jacobi scales.
+fn incidence<E: Element<N>, const N: usize>(
+    f: &Family<E, N>,
+    slot_base: u32,
+    count: &[u32],
+    omega: f32,
+    lists: &mut [Vec<u32>],
+) -> Vec<f32> {
+    for (j, e) in f.elements.iter().enumerate() {
         for (k, &p) in e.particles().iter().enumerate() {
             lists[p as usize].push(slot_base + (N * j + k) as u32);
         }
     }
+    jacobi::scales(&f.elements, count, omega)
+}
+
+/// A family's length, color ranges and element bytes for upload.
+fn upload<E: Element<N> + bytemuck::Pod, const N: usize>(f: &Family<E, N>) -> (usize, &[std::ops::Range<u32>], &[u8]) {
+    (f.len(), &f.colors, bytemuck::cast_slice(&f.elements))
 }

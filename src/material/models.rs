@@ -123,6 +123,15 @@ impl Elastic {
         Ok(Elastic { model, mu, lambda, kappa, mu10: mu / 4.0, mu01: mu / 4.0, nu1: kappa / 2.0, mu_ab, lambda_m: lm })
     }
 
+    /// Arruda-Boyce's `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}` for `i = 1..5` (Pa).
+    pub fn arruda_boyce_alphas(&self) -> [f64; 5] {
+        let mut out = [0.0; 5];
+        for (i, (o, c_i)) in out.iter_mut().zip(AB_C).enumerate() {
+            *o = self.mu_ab * c_i / self.lambda_m.powi(2 * i as i32);
+        }
+        out
+    }
+
     /// `Ψ̂(σ)` with derivatives, for the isotropic models (positive `σ`).
     fn psi_hat<S: Real>(&self, s: [Hd<S>; 3]) -> Hd<S> {
         let k = |v: f64| S::from_f64(v);
@@ -152,9 +161,8 @@ impl Elastic {
                 let j = s[0] * s[1] * s[2];
                 let ib = i1 * j.powf(k(-2.0 / 3.0));
                 let mut psi = Hd::constant(S::zero());
-                for (n, c_i) in AB_C.iter().enumerate() {
+                for (n, alpha) in self.arruda_boyce_alphas().into_iter().enumerate() {
                     let i = n as u32 + 1;
-                    let alpha = self.mu_ab * c_i / self.lambda_m.powi(2 * i as i32 - 2);
                     psi = psi + (ib.powi(i) + k(-(3f64.powi(i as i32)))) * k(alpha);
                 }
                 let jm = j - Hd::constant(one);

@@ -1,0 +1,170 @@
+// Kernels shared by the constraint families of ARITY particles (bending, tetrahedra, triangles).
+// Keep in sync with src/solver/cpu.rs and src/solver/xpbd.rs. The family's own file defines:
+//   const ARITY: u32;             particles per element
+//   const PARTIAL_FAMILY: u32;    its slot range in the energy reduction's partial sums
+//   fn element_particles(j: u32) -> array<u32, ARITY>
+//   fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj   (C, ∇C, α in the current form)
+//   fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32     (material energy, J)
+
+struct Proj {
+    c: f32,
+    alpha: f32,
+    g: array<vec3<f32>, ARITY>,
+}
+
+// An element's particles and their live state (xyz position, w inverse mass).
+struct Gathered {
+    idx: array<u32, ARITY>,
+    p: array<vec4<f32>, ARITY>,
+}
+
+fn gather_live(j: u32) -> Gathered {
+    var e: Gathered;
+    e.idx = element_particles(j);
+    for (var k = 0u; k < ARITY; k++) {
+        e.p[k] = x[e.idx[k]];
+    }
+    return e;
+}
+
+fn positions_of(e: Gathered) -> array<vec3<f32>, ARITY> {
+    var out: array<vec3<f32>, ARITY>;
+    for (var k = 0u; k < ARITY; k++) {
+        out[k] = e.p[k].xyz;
+    }
+    return out;
+}
+
+fn previous_positions(idx: array<u32, ARITY>) -> array<vec3<f32>, ARITY> {
+    var out: array<vec3<f32>, ARITY>;
+    for (var k = 0u; k < ARITY; k++) {
+        out[k] = x_prev[idx[k]].xyz;
+    }
+    return out;
+}
+
+// The local mode's C̃ for element j (mirrors solver::cpu::local_adjusted).
+fn element_local(j: u32, e: Gathered, pr: Proj) -> f32 {
+    var kinetic = 0.0;
+    for (var k = 0u; k < ARITY; k++) {
+        kinetic += local_kinetic(e.idx[k], e.p[k]);
+    }
+    let r = 0.5 * kinetic * params.inv_h2 + (projected_energy(pr.c, pr.alpha) - energy_start[j]);
+    return local_constraint(pr.c, pr.alpha, r);
+}
+
+// vec2(Δλ, applied) for element j with projection pr (mirrors solver::xpbd::solve_element).
+fn element_update(j: u32, e: Gathered, pr: Proj) -> vec2<f32> {
+    let alpha_tilde = pr.alpha * params.inv_h2;
+    var sum = 0.0;
+    for (var k = 0u; k < ARITY; k++) {
+        sum += e.p[k].w * dot(pr.g[k], pr.g[k]);
+    }
+    var gamma = 0.0;
+    var gdx = 0.0;
+    if (params.beta > 0.0) {
+        gamma = pr.alpha * params.beta * params.inv_h;
+        for (var k = 0u; k < ARITY; k++) {
+            gdx += dot(pr.g[k], e.p[k].xyz - x_prev[e.idx[k]].xyz);
+        }
+    }
+    return delta_lambda(pr.c, sum, alpha_tilde, lambda[j], gamma, gdx);
+}
+
+fn element_gs_apply(j: u32, e: Gathered, pr: Proj, r: vec2<f32>) {
+    if (r.y > 0.0) {
+        let d = r.x;
+        lambda[j] = lambda[j] + d;
+        for (var k = 0u; k < ARITY; k++) {
+            let p = e.p[k];
+            x[e.idx[k]] = vec4<f32>(p.xyz + pr.g[k] * (p.w * d), p.w);
+        }
+    }
+}
+
+fn element_jacobi_store(j: u32, e: Gathered, pr: Proj, r: vec2<f32>) {
+    let d = r.x * jacobi_scale[j] * r.y;
+    lambda[j] = lambda[j] + d;
+    let slot = range.slot_base + ARITY * j;
+    for (var k = 0u; k < ARITY; k++) {
+        corr[slot + k] = vec4<f32>(pr.g[k] * (e.p[k].w * d), 0.0);
+    }
+}
+
+@compute @workgroup_size(64)
+fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let e = gather_live(j);
+        let pr = element_project(j, positions_of(e));
+        element_gs_apply(j, e, pr, element_update(j, e, pr));
+    }
+}
+
+@compute @workgroup_size(64)
+fn gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let e = gather_live(j);
+        var pr = element_project(j, positions_of(e));
+        pr.c = element_local(j, e, pr);
+        element_gs_apply(j, e, pr, element_update(j, e, pr));
+    }
+}
+
+@compute @workgroup_size(64)
+fn jacobi(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let e = gather_live(j);
+        let pr = element_project(j, positions_of(e));
+        element_jacobi_store(j, e, pr, element_update(j, e, pr));
+    }
+}
+
+@compute @workgroup_size(64)
+fn jacobi_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let e = gather_live(j);
+        var pr = element_project(j, positions_of(e));
+        pr.c = element_local(j, e, pr);
+        element_jacobi_store(j, e, pr, element_update(j, e, pr));
+    }
+}
+
+@compute @workgroup_size(64)
+fn clear(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        lambda[range.start + t] = 0.0;
+    }
+}
+
+// Local mode: each element's projected energy at the start of the substep.
+@compute @workgroup_size(64)
+fn local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        let pr = element_project(j, previous_positions(element_particles(j)));
+        energy_start[j] = projected_energy(pr.c, pr.alpha);
+    }
+}
+
+// Partial sums of the family's material energy.
+@compute @workgroup_size(64)
+fn energy(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) ng: vec3<u32>,
+) {
+    var acc = 0.0;
+    for (var t = gid.x; t < range.count; t += stride(ng)) {
+        let j = range.start + t;
+        acc += element_energy(j, positions_of(gather_live(j)));
+    }
+    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc, 0.0));
+    if (lid.x == 0u) {
+        partials[PARTIAL_FAMILY + wid.x] = total;
+    }
+}

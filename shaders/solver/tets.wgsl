@@ -1,0 +1,77 @@
+// Tetrahedra with the 3D elastic models (mirrors src/constraints/tet.rs): F = D_s D_m⁻¹,
+// E = V₀ Ψ(F), [∇x₁ ∇x₂ ∇x₃] = V₀ P D_m⁻ᵀ, ∇x₀ = −Σ. Compliant form: C = √(2E/s), α = 1/s,
+// ∇C = ∇E/(s C), skipped for the iteration when C vanishes or is not finite.
+
+struct Tet {
+    p0: u32,
+    p1: u32,
+    p2: u32,
+    p3: u32,
+    // D_m⁻¹ by columns.
+    dm_inv: array<f32, 9>,
+    // Rest volume V₀ (m³).
+    volume: f32,
+    pad0: u32,
+    pad1: u32,
+}
+
+@group(1) @binding(0) var<storage, read> tets: array<Tet>;
+
+const ARITY: u32 = 4u;
+const PARTIAL_FAMILY: u32 = PARTIAL_TETS;
+
+fn element_particles(j: u32) -> array<u32, ARITY> {
+    let t = tets[j];
+    return array<u32, ARITY>(t.p0, t.p1, t.p2, t.p3);
+}
+
+fn rest_inverse(t: Tet) -> mat3x3<f32> {
+    let m = t.dm_inv;
+    return mat3x3<f32>(vec3<f32>(m[0], m[1], m[2]), vec3<f32>(m[3], m[4], m[5]), vec3<f32>(m[6], m[7], m[8]));
+}
+
+fn deformation(t: Tet, p: array<vec3<f32>, ARITY>) -> mat3x3<f32> {
+    return mat3x3<f32>(p[1] - p[0], p[2] - p[0], p[3] - p[0]) * rest_inverse(t);
+}
+
+fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
+    let t = tets[j];
+    return t.volume * material_stress(deformation(t, p)).psi;
+}
+
+// Bit test for NaN and infinity (WGSL has no isFinite).
+fn is_finite(a: f32) -> bool {
+    return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
+    let t = tets[j];
+    let st = material_stress(deformation(t, p));
+    let h = st.p * transpose(rest_inverse(t));
+    let v = t.volume;
+    let g1 = h[0] * v;
+    let g2 = h[1] * v;
+    let g3 = h[2] * v;
+    var out: Proj;
+    out.g = array<vec3<f32>, ARITY>(-(g1 + g2 + g3), g1, g2, g3);
+    let e = v * st.psi;
+    if (params.form == FORM_ENERGY) {
+        out.c = e;
+        out.alpha = params.energy_compliance;
+        return out;
+    }
+    let s = params.tet_scale;
+    let c = sqrt(2.0 * max(e, 0.0) / s);
+    out.alpha = 1.0 / s;
+    if (c <= 1e-12 || !is_finite(c)) {
+        out.c = 0.0;
+        out.g = array<vec3<f32>, ARITY>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+        return out;
+    }
+    out.c = c;
+    let k = 1.0 / (s * c);
+    for (var i = 0u; i < ARITY; i++) {
+        out.g[i] = out.g[i] * k;
+    }
+    return out;
+}
