@@ -43,10 +43,13 @@ pub fn gravitational_about<V: Vector>(g: glam::Vec3, x_ref: glam::Vec3, x: &[V],
     x.iter().zip(w).filter(|(_, w)| **w > V::S::zero()).map(|(x, w)| -g.dot(x.to_dvec3() - r) / w.to_f64()).sum()
 }
 
+/// The multipliers `λ` of a substep, one slice per family in solve order (empty for a family the
+/// scene does not have).
+pub type Lambdas<'a, S> = [&'a [S]; crate::scene::FAMILY_COUNT];
+
 /// RMS and maximum of the XPBD residual `|C_j + α̃ λ_j|` over every constraint of `scene`,
 /// with the multipliers `λ` of a substep run with constants `k`.
-pub fn residual<V: Vector>(scene: &Scene, x: &[V], lambdas: [&[V::S]; 3], k: &StepConstants<V::S>) -> (f64, f64) {
-    let [springs_lambda, bends_lambda, tets_lambda] = lambdas;
+pub fn residual<V: Vector>(scene: &Scene, x: &[V], lambdas: Lambdas<'_, V::S>, k: &StepConstants<V::S>) -> (f64, f64) {
     let (mut sq, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
     let mut add = |r: V::S| {
         let r = r.to_f64();
@@ -54,21 +57,11 @@ pub fn residual<V: Vector>(scene: &Scene, x: &[V], lambdas: [&[V::S]; 3], k: &St
         max = max.max(r);
         n += 1;
     };
-    if let Some(f) = &scene.springs {
-        for (e, &l) in f.elements.iter().zip(springs_lambda) {
+    crate::for_each_family!(scene, |i, f| {
+        for (e, &l) in f.elements.iter().zip(lambdas[i]) {
             add(crate::solver::residual(e, &f.params, x, l, k));
         }
-    }
-    if let Some(f) = &scene.bends {
-        for (e, &l) in f.elements.iter().zip(bends_lambda) {
-            add(crate::solver::residual(e, &f.params, x, l, k));
-        }
-    }
-    if let Some(f) = &scene.tets {
-        for (e, &l) in f.elements.iter().zip(tets_lambda) {
-            add(crate::solver::residual(e, &f.params, x, l, k));
-        }
-    }
+    });
     if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), max) }
 }
 
@@ -77,9 +70,9 @@ pub fn elastic_energy<V: Vector>(scene: &Scene, x: &[V]) -> f64 {
     fn family<E: Element<N>, V: Vector, const N: usize>(f: &Family<E, N>, x: &[V]) -> f64 {
         f.elements.iter().map(|e| e.energy(&f.params, &gather(x, e.particles())).to_f64()).sum()
     }
-    scene.springs.as_ref().map_or(0.0, |f| family(f, x))
-        + scene.bends.as_ref().map_or(0.0, |f| family(f, x))
-        + scene.tets.as_ref().map_or(0.0, |f| family(f, x))
+    let mut sum = 0.0;
+    crate::for_each_family!(scene, |_i, f| sum += family(f, x));
+    sum
 }
 
 /// A simulation state to measure: positions, velocities, inverse masses, and the multipliers
@@ -93,7 +86,7 @@ pub struct StateView<'a, V: Vector> {
     /// Inverse masses (1/kg).
     pub w: &'a [V::S],
     /// Multipliers: springs, bending, tetrahedra.
-    pub lambdas: [&'a [V::S]; 3],
+    pub lambdas: Lambdas<'a, V::S>,
     /// Constants of the last substep.
     pub constants: Option<&'a StepConstants<V::S>>,
     /// Work of physical dissipation since the start (J).

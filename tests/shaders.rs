@@ -41,26 +41,28 @@ fn every_wgsl_file_is_in_a_module() {
 #[test]
 fn gpu_structs_match_their_wgsl_sizes() {
     // Sizes of the host structs, mirrored in shaders/common/types.wgsl and the solver kernels.
-    assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 176);
+    assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 208);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Tet>(), 64);
+    assert_eq!(std::mem::size_of::<eapbd::constraints::Membrane>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::gpu::GpuLedger>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::gpu::DispatchRange>(), 16);
     assert_eq!(std::mem::size_of::<eapbd::gpu::GpuSphere>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Spring>(), 16);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Bend>(), 24);
-    for source in [shaders::SPRINGS, shaders::BENDING, shaders::TETS] {
+    for source in [shaders::SPRINGS, shaders::BENDING, shaders::TETS, shaders::MEMBRANES] {
         let module = naga::front::wgsl::parse_str(source).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
         for (handle, ty) in module.types.iter() {
             let expected = match ty.name.as_deref() {
-                Some("SimParams") => 176,
+                Some("SimParams") => 208,
                 Some("Ledger") => 32,
                 Some("DispatchRange") => 16,
                 Some("Sphere") => 32,
                 Some("Spring") => 16,
                 Some("Bend") => 24,
                 Some("Tet") => 64,
+                Some("Membrane") => 32,
                 _ => continue,
             };
             assert_eq!(layouter[handle].size, expected, "WGSL {:?}", ty.name);

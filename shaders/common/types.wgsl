@@ -51,6 +51,16 @@ struct SimParams {
     ab4: f32,
     pad0: f32,
     pad1: f32,
+    // Membranes: number, the compliant form's stiffness scale s (N/m), and C_orth = [[c_uu, c_uv,
+    // 0], [c_uv, c_vv, 0], [0, 0, c_ss]] (N/m).
+    num_membranes: u32,
+    membrane_scale: f32,
+    pad2: u32,
+    pad3: u32,
+    c_uu: f32,
+    c_uv: f32,
+    c_vv: f32,
+    c_ss: f32,
 }
 
 // The energy ledger (one per scene), written by the reduction's final kernel.
@@ -70,14 +80,15 @@ struct Ledger {
 }
 
 // Slots of the reduction's per-workgroup partial sums (x kinetic, y gravitational, z elastic,
-// w work): particles, springs, bending, tetrahedra; at most REDUCE_GROUPS workgroups each. Keep
+// w work): particles, springs, bending, tetrahedra, membranes; at most REDUCE_GROUPS workgroups each. Keep
 // PARTIAL_SLOTS in sync with src/gpu/kernels.rs.
 const REDUCE_GROUPS: u32 = 256u;
 const PARTIAL_PARTICLES: u32 = 0u;
 const PARTIAL_SPRINGS: u32 = 256u;
 const PARTIAL_BENDS: u32 = 512u;
 const PARTIAL_TETS: u32 = 768u;
-const PARTIAL_SLOTS: u32 = 1024u;
+const PARTIAL_MEMBRANES: u32 = 1024u;
+const PARTIAL_SLOTS: u32 = 1280u;
 
 // One dispatch's slice of a family (a color group, or all of it for Jacobi), bound with a
 // dynamic offset. slot_base: first Jacobi correction slot of the family.

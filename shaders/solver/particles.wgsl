@@ -184,6 +184,10 @@ fn energy_final(@builtin(local_invocation_id) lid: vec3<u32>) {
     for (var k = lid.x; k < nt; k += 64u) {
         acc += partials[PARTIAL_TETS + k];
     }
+    let nm = reduce_count(params.num_membranes);
+    for (var k = lid.x; k < nm; k += 64u) {
+        acc += partials[PARTIAL_MEMBRANES + k];
+    }
     let total = reduce_workgroup(lid.x, acc);
     if (lid.x == 0u) {
         let k1 = total.x;

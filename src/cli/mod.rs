@@ -8,7 +8,7 @@ pub mod simulate;
 use std::str::FromStr;
 
 use clap::{Args, Parser, Subcommand};
-use eapbd::constraints::{Form, SpringMaterial};
+use eapbd::constraints::{Form, Orthotropic, SpringMaterial};
 use eapbd::material::Model;
 use eapbd::scene::SceneOptions;
 use eapbd::solver::{EnergyAware, Method, Settings};
@@ -40,23 +40,32 @@ pub(crate) fn named<T: FromStr<Err = eapbd::Error>>(s: &str) -> Result<T, eapbd:
     s.parse()
 }
 
-/// A material name from the command line: a spring model or a 3D model.
+/// A material name from the command line: a spring model, the anisotropic continuum cloth or a
+/// 3D model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MaterialArg {
     /// Springs (cloth scenes).
     Spring(SpringMaterial),
+    /// The orthotropic StVK membrane (cloth scenes).
+    AnisoCloth,
     /// Tetrahedra (volumetric scenes).
     Solid(Model),
 }
+
+/// The name of [`MaterialArg::AnisoCloth`].
+const ANISO_CLOTH: &str = "aniso-cloth";
 
 fn material(s: &str) -> Result<MaterialArg, eapbd::Error> {
     if let Ok(m) = s.parse::<SpringMaterial>() {
         return Ok(MaterialArg::Spring(m));
     }
+    if s == ANISO_CLOTH {
+        return Ok(MaterialArg::AnisoCloth);
+    }
     s.parse::<Model>().map(MaterialArg::Solid).map_err(|_| eapbd::Error::UnknownName {
         what: "material",
         given: s.to_string(),
-        allowed: SpringMaterial::NAMES.into_iter().chain(Model::ALL.map(Model::name)).collect(),
+        allowed: SpringMaterial::NAMES.into_iter().chain([ANISO_CLOTH]).chain(Model::ALL.map(Model::name)).collect(),
     })
 }
 
@@ -72,16 +81,25 @@ pub struct SceneArgs {
     /// Small-strain spring stiffness k_s (N/m).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0e4)]
     pub stiffness: f32,
-    /// Material: hookean or stvk-spring (cloth scenes); linear, stvk, neo-hookean,
+    /// Material: hookean, stvk-spring or aniso-cloth (cloth scenes); linear, stvk, neo-hookean,
     /// mooney-rivlin or arruda-boyce (beam, cube; default neo-hookean).
     #[arg(long, value_parser = material)]
     pub material: Option<MaterialArg>,
     /// Young's modulus of the volumetric scenes (Pa).
     #[arg(long, allow_negative_numbers = true, default_value_t = 2.0e6)]
     pub young: f64,
-    /// Poisson's ratio of the volumetric scenes.
+    /// Poisson's ratio of the volumetric scenes, and ν_uv of aniso-cloth.
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.3)]
     pub poisson: f64,
+    /// aniso-cloth: warp modulus E_u along x (N/m; default: --stiffness).
+    #[arg(long, allow_negative_numbers = true)]
+    pub warp: Option<f64>,
+    /// aniso-cloth: weft modulus E_v along z (N/m; default: --stiffness).
+    #[arg(long, allow_negative_numbers = true)]
+    pub weft: Option<f64>,
+    /// aniso-cloth: shear modulus G (N/m; default √(E_u E_v)/(2(1 + ν))).
+    #[arg(long, allow_negative_numbers = true)]
+    pub shear: Option<f64>,
     /// Dihedral bending stiffness k_b (N·m/rad); 0 disables. Default: 1e-3 for cloth and
     /// cloth-sphere, 0 for cloth-paper.
     #[arg(long, allow_negative_numbers = true)]
@@ -139,7 +157,21 @@ impl SceneArgs {
             }
             Some(MaterialArg::Spring(m)) => (m, None),
             Some(MaterialArg::Solid(m)) => (SpringMaterial::Hookean, Some(m)),
-            None => (SpringMaterial::Hookean, None),
+            Some(MaterialArg::AnisoCloth) | None => (SpringMaterial::Hookean, None),
+        };
+        let aniso = self.material == Some(MaterialArg::AnisoCloth);
+        if !aniso
+            && let Some((flag, _)) = [("--warp", self.warp), ("--weft", self.weft), ("--shear", self.shear)]
+                .into_iter()
+                .find(|(_, v)| v.is_some())
+        {
+            return Err(eapbd::Error::param(flag, "given", "applies only to --material aniso-cloth"));
+        }
+        let membrane = if aniso {
+            let k = self.stiffness as f64;
+            Some(Orthotropic::new(self.warp.unwrap_or(k), self.weft.unwrap_or(k), self.shear, self.poisson)?)
+        } else {
+            None
         };
         Ok(SceneOptions {
             resolution: self.resolution,
@@ -150,6 +182,7 @@ impl SceneArgs {
             solid,
             young: self.young,
             poisson: self.poisson,
+            membrane,
         })
     }
 

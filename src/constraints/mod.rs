@@ -5,12 +5,14 @@
 //! records are `#[repr(C)]` and `Pod` so the GPU solver can upload them unchanged.
 
 pub mod bending;
+pub mod membrane;
 pub mod spring;
 pub mod tet;
 
 use crate::math::Vector;
 
 pub use bending::{Bend, BendParams};
+pub use membrane::{Membrane, MembraneParams, Orthotropic};
 pub use spring::{Spring, SpringMaterial, SpringParams};
 pub use tet::{Tet, TetParams};
 
@@ -85,6 +87,26 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
 
     /// The compliant-form constraint `C`, `∇C` and `α`, with `E = C² / (2α)`.
     fn compliant<V: Vector>(&self, p: &Self::Params, x: &[V; N]) -> Projection<V, N>;
+}
+
+/// The compliant form of an energy-based element: `C = √(2E/s)` with `α = 1/s` for the stiffness
+/// scale `s`, so `E = C²/(2α)`, and `∇C = ∇E/(s C)`. When `C` vanishes (at rest, where its
+/// gradient is undefined) or is not finite, the element is skipped for the iteration (`C = 0`,
+/// `∇C = 0`).
+pub(crate) fn energy_root<V: Vector, const N: usize>(
+    energy: V::S,
+    gradient: impl FnOnce() -> [V; N],
+    scale: f64,
+) -> Projection<V, N> {
+    use crate::math::prelude::*;
+    let s = V::S::from_f64(scale);
+    let c_val = (c::<V::S>(2.0) * energy.max(V::S::zero()) / s).sqrt();
+    let alpha = V::S::one() / s;
+    if c_val <= c(1e-12) || !c_val.is_finite() {
+        return Projection { c: V::S::zero(), grad: [V::ZERO; N], alpha };
+    }
+    let k = V::S::one() / (s * c_val);
+    Projection { c: c_val, grad: gradient().map(|g| g * k), alpha }
 }
 
 /// Gathers the positions of an element's particles.

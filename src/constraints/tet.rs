@@ -8,7 +8,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{Element, Projection};
+use super::{Element, Projection, energy_root};
 use crate::material::{Elastic, M3};
 use crate::math::prelude::*;
 
@@ -92,14 +92,6 @@ impl Element<4> for Tet {
     }
 
     fn compliant<V: Vector>(&self, p: &TetParams, x: &[V; 4]) -> Projection<V, 4> {
-        let s = V::S::from_f64(p.scale);
-        let e = self.energy(p, x).max(V::S::zero());
-        let c_val = (c::<V::S>(2.0) * e / s).sqrt();
-        let alpha = V::S::one() / s;
-        if c_val <= c(1e-12) || !c_val.is_finite() {
-            return Projection { c: V::S::zero(), grad: [V::ZERO; 4], alpha };
-        }
-        let k = V::S::one() / (s * c_val);
-        Projection { c: c_val, grad: self.energy_gradient(p, x).map(|g| g * k), alpha }
+        energy_root(self.energy(p, x), || self.energy_gradient(p, x), p.scale)
     }
 }

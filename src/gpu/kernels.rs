@@ -36,10 +36,11 @@ pub struct Kernels {
     jacobi_apply: OnceLock<wgpu::ComputePipeline>,
     local: OnceLock<LocalKernels>,
     energy: OnceLock<EnergyKernels>,
-    families: [OnceLock<FamilyKernels>; 3],
+    families: [OnceLock<FamilyKernels>; 4],
 }
 
-/// The constraint families the GPU solver runs, in the CPU's order.
+/// The constraint families the GPU solver runs, in the CPU's order (`kind as usize` is the
+/// family's index in [`crate::for_each_family`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum FamilyKind {
     /// Springs.
@@ -48,11 +49,14 @@ pub enum FamilyKind {
     Bending,
     /// Tetrahedra.
     Tets,
+    /// Anisotropic membrane triangles.
+    Membranes,
 }
 
 impl FamilyKind {
     /// Every family, in solve order.
-    pub const ALL: [FamilyKind; 3] = [FamilyKind::Springs, FamilyKind::Bending, FamilyKind::Tets];
+    pub const ALL: [FamilyKind; 4] =
+        [FamilyKind::Springs, FamilyKind::Bending, FamilyKind::Tets, FamilyKind::Membranes];
 
     /// The family's name (its WGSL module and buffer labels).
     pub fn name(self) -> &'static str {
@@ -60,6 +64,7 @@ impl FamilyKind {
             FamilyKind::Springs => "springs",
             FamilyKind::Bending => "bending",
             FamilyKind::Tets => "tets",
+            FamilyKind::Membranes => "membranes",
         }
     }
 
@@ -67,6 +72,7 @@ impl FamilyKind {
     pub fn arity(self) -> u32 {
         match self {
             FamilyKind::Springs => 2,
+            FamilyKind::Membranes => 3,
             FamilyKind::Bending | FamilyKind::Tets => 4,
         }
     }
@@ -76,6 +82,7 @@ impl FamilyKind {
             FamilyKind::Springs => shaders::SPRINGS,
             FamilyKind::Bending => shaders::BENDING,
             FamilyKind::Tets => shaders::TETS,
+            FamilyKind::Membranes => shaders::MEMBRANES,
         }
     }
 }
@@ -302,7 +309,7 @@ pub(crate) fn groups(count: u32) -> u32 {
 }
 
 /// Partial-sum slots of the energy reduction (`PARTIAL_SLOTS` in `shaders/common/types.wgsl`).
-pub(crate) const PARTIAL_SLOTS: usize = 1024;
+pub(crate) const PARTIAL_SLOTS: usize = 1280;
 
 /// Workgroups of an energy reduction over `count` items (at most 256 partial sums each; keep in
 /// sync with `REDUCE_GROUPS` in `shaders/common/types.wgsl`).

@@ -59,9 +59,17 @@ pub struct SimParams {
     /// (Mooney-Rivlin and Arruda-Boyce as in [`crate::material::Elastic`]), each rounded once
     /// from `f64` as on the CPU.
     pub elastic: [f32; 16],
+    /// Number of membrane triangles.
+    pub num_membranes: u32,
+    /// The compliant form's stiffness scale `s` of the membranes (N/m).
+    pub membrane_scale: f32,
+    /// Padding.
+    pub pad: [u32; 2],
+    /// The membranes' `C_orth` entries `[c_uu, c_uv, c_vv, c_ss]` (N/m).
+    pub membrane: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<SimParams>() == 176);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 208);
 
 /// The 3D model's constants as [`SimParams::elastic`] holds them.
 fn elastic_constants(e: &Elastic) -> [f32; 16] {
@@ -118,6 +126,7 @@ impl SimParams {
         let material = scene.springs.as_ref().map_or(SpringMaterial::Hookean, |f| f.params.material);
         let ground = scene.ground;
         let tets = scene.tets.as_ref().map(|f| &f.params);
+        let membranes = scene.membranes.as_ref().map(|f| &f.params);
         SimParams {
             gravity: scene.gravity.extend(0.0).to_array(),
             rest_com: scene.rest_center_of_mass().extend(0.0).to_array(),
@@ -142,6 +151,10 @@ impl SimParams {
             tet_model: tets.map_or(0, |p| Model::ALL.iter().position(|&m| m == p.elastic.model).unwrap_or(0) as u32),
             tet_scale: tets.map_or(1.0, |p| p.scale as f32),
             elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
+            num_membranes: scene.membranes.as_ref().map_or(0, |f| f.len() as u32),
+            membrane_scale: membranes.map_or(1.0, |p| p.scale as f32),
+            pad: [0; 2],
+            membrane: membranes.map_or([0.0; 4], |p| p.c.map(|v| v as f32)),
         }
     }
 }

@@ -24,6 +24,13 @@ pub const TETS: &str = concat!(
     include_str!("../../shaders/solver/tets.wgsl"),
     include_str!("../../shaders/common/element.wgsl")
 );
+/// Anisotropic membrane triangles (orthotropic StVK).
+pub const MEMBRANES: &str = concat!(
+    include_str!("../../shaders/common/types.wgsl"),
+    include_str!("../../shaders/common/family.wgsl"),
+    include_str!("../../shaders/solver/membranes.wgsl"),
+    include_str!("../../shaders/common/element.wgsl")
+);
 /// Per-particle kernels: predict, contacts, finish, Jacobi apply.
 pub const PARTICLES: &str =
     concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/particles.wgsl"));
@@ -37,10 +44,11 @@ pub const GROUND: &str =
     concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/ground.wgsl"));
 
 /// Every composed module with its name, for validation.
-pub const ALL: [(&str, &str); 7] = [
+pub const ALL: [(&str, &str); 8] = [
     ("springs", SPRINGS),
     ("bending", BENDING),
     ("tets", TETS),
+    ("membranes", MEMBRANES),
     ("particles", PARTICLES),
     ("normals", NORMALS),
     ("mesh", MESH),

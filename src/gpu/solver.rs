@@ -11,7 +11,7 @@ use super::readback::read_buffer;
 use crate::constraints::Element;
 use crate::error::Result;
 use crate::metrics::{FrameStats, StateView};
-use crate::scene::{Family, Scene};
+use crate::scene::{FAMILY_COUNT, Family, Scene};
 use crate::solver::{EnergyAware, Method, Settings, StepConstants, jacobi};
 
 /// Stride of the dispatch-range table (the uniform offset alignment).
@@ -76,12 +76,8 @@ pub struct GpuState {
     pub v: Vec<Vec3>,
     /// Inverse masses (1/kg).
     pub w: Vec<f32>,
-    /// Spring multipliers of the last substep.
-    pub springs_lambda: Vec<f32>,
-    /// Bending multipliers of the last substep.
-    pub bends_lambda: Vec<f32>,
-    /// Tetrahedra multipliers of the last substep.
-    pub tets_lambda: Vec<f32>,
+    /// Multipliers of the last substep, per family in solve order (empty where absent).
+    pub lambdas: [Vec<f32>; FAMILY_COUNT],
     /// Work of physical dissipation since the start (J), summed over particles.
     pub dissipated: f64,
 }
@@ -203,6 +199,7 @@ impl GpuSolver {
                     FamilyKind::Springs => scene.springs.as_ref().map(upload)?,
                     FamilyKind::Bending => scene.bends.as_ref().map(upload)?,
                     FamilyKind::Tets => scene.tets.as_ref().map(upload)?,
+                    FamilyKind::Membranes => scene.membranes.as_ref().map(upload)?,
                 };
                 Some(family(kind, len, colors, bytes))
             })
@@ -513,6 +510,9 @@ impl GpuSolver {
                     FamilyKind::Tets => {
                         scene.tets.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
                     }
+                    FamilyKind::Membranes => {
+                        scene.membranes.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
+                    }
                 }
                 .unwrap_or_default(),
             );
@@ -567,24 +567,18 @@ impl GpuSolver {
     pub fn read_state(&self) -> Result<GpuState> {
         let x: Vec<Vec4> = read_buffer(&self.device, &self.queue, &self.x)?;
         let v: Vec<Vec4> = read_buffer(&self.device, &self.queue, &self.v)?;
-        let lambda = |kind: FamilyKind| -> Result<Vec<f32>> {
-            match self.families.iter().find(|f| f.kind == kind) {
-                Some(f) => {
-                    let mut l: Vec<f32> = read_buffer(&self.device, &self.queue, &f.lambda)?;
-                    l.truncate(f.len as usize);
-                    Ok(l)
-                }
-                None => Ok(Vec::new()),
-            }
-        };
+        let mut lambdas: [Vec<f32>; FAMILY_COUNT] = Default::default();
+        for f in &self.families {
+            let mut l: Vec<f32> = read_buffer(&self.device, &self.queue, &f.lambda)?;
+            l.truncate(f.len as usize);
+            lambdas[f.kind as usize] = l;
+        }
         Ok(GpuState {
             w: x.iter().map(|p| p.w).collect(),
             x: x.iter().map(|p| p.truncate()).collect(),
             v: v.iter().map(|p| p.truncate()).collect(),
             dissipated: v.iter().map(|p| p.w as f64).sum(),
-            springs_lambda: lambda(FamilyKind::Springs)?,
-            bends_lambda: lambda(FamilyKind::Bending)?,
-            tets_lambda: lambda(FamilyKind::Tets)?,
+            lambdas,
         })
     }
 
@@ -602,7 +596,7 @@ impl GpuSolver {
             x: &st.x,
             v: &st.v,
             w: &st.w,
-            lambdas: [&st.springs_lambda, &st.bends_lambda, &st.tets_lambda],
+            lambdas: std::array::from_fn(|i| st.lambdas[i].as_slice()),
             constants: k.as_ref(),
             dissipated: st.dissipated,
         };

@@ -1,10 +1,10 @@
 //! The cloth scenes: a 1 m, 1 kg square grid, horizontal at the start.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::{Family, Ground, Scene, SceneOptions, Sphere};
-use crate::constraints::{Bend, BendParams, Spring, SpringParams};
-use crate::error::Result;
+use crate::constraints::{Bend, BendParams, Membrane, MembraneParams, Orthotropic, Spring, SpringParams};
+use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, dihedral_pairs, grid, unique_edges};
 
 /// Which cloth.
@@ -50,9 +50,17 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     let edges = unique_edges(&mesh.triangles);
     let edge_rest: Vec<f32> =
         edges.iter().map(|&[a, b]| mesh.positions[a as usize].distance(mesh.positions[b as usize])).collect();
-    let springs =
-        edges.iter().zip(&edge_rest).map(|(&[a, b], &rest)| Spring::new(a, b, rest, o.stiffness, o.material)).collect();
-    let springs = Some(Family::new(SpringParams { material: o.material }, springs, np));
+    let (springs, membranes) = match o.membrane {
+        Some(moduli) => (None, Some(membranes(&mesh, moduli)?)),
+        None => {
+            let springs = edges
+                .iter()
+                .zip(&edge_rest)
+                .map(|(&[a, b], &rest)| Spring::new(a, b, rest, o.stiffness, o.material))
+                .collect();
+            (Some(Family::new(SpringParams { material: o.material }, springs, np)), None)
+        }
+    };
     let bends = (kb > 0.0).then(|| bending(&mesh, kb));
     let spheres = match kind {
         Kind::Sphere => vec![Sphere { center: Vec3::new(0.1, 0.3, 0.06), radius: 0.3, friction: 0.4 }],
@@ -79,11 +87,23 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         springs,
         bends,
         tets: None,
+        membranes,
         ground: (!free).then_some(Ground { height: 0.0, friction: 0.5 }),
         spheres,
         gravity: if o.gravity && !free { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },
         contact_offset: 0.005,
     })
+}
+
+/// Membrane triangles with the warp along x and the weft along z of the flat rest grid.
+fn membranes(mesh: &TriMesh, moduli: Orthotropic) -> Result<Family<Membrane, 3>> {
+    let uv: Vec<Vec2> = mesh.positions.iter().map(|p| Vec2::new(p.x, p.z)).collect();
+    let elements = mesh
+        .triangles
+        .iter()
+        .map(|&t| Membrane::at_rest(t, &uv).ok_or_else(|| Error::InvalidMesh(format!("degenerate triangle {t:?}"))))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Family::new(MembraneParams::new(moduli), elements, mesh.positions.len()))
 }
 
 fn bending(mesh: &TriMesh, kb: f32) -> Family<Bend, 4> {

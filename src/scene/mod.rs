@@ -6,9 +6,38 @@ mod solid;
 
 pub use family::Family;
 
+/// Number of constraint families a scene may have.
+pub const FAMILY_COUNT: usize = 4;
+
+/// Evaluates `$body` once for each constraint family `$scene` has, in solve order (springs,
+/// bending, tetrahedra, membranes), with `$f` bound to the `&Family` and `$i` to the family's
+/// index (`0..FAMILY_COUNT`) in that order.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! for_each_family {
+    ($scene:expr, |$i:ident, $f:ident| $body:expr) => {{
+        if let Some($f) = &$scene.springs {
+            let $i = 0usize;
+            $body;
+        }
+        if let Some($f) = &$scene.bends {
+            let $i = 1usize;
+            $body;
+        }
+        if let Some($f) = &$scene.tets {
+            let $i = 2usize;
+            $body;
+        }
+        if let Some($f) = &$scene.membranes {
+            let $i = 3usize;
+            $body;
+        }
+    }};
+}
+
 use glam::Vec3;
 
-use crate::constraints::{Bend, Spring, SpringMaterial, Tet};
+use crate::constraints::{Bend, Membrane, Orthotropic, Spring, SpringMaterial, Tet};
 use crate::error::{Error, Result};
 
 /// A horizontal ground plane `y = height` with Coulomb friction.
@@ -54,6 +83,8 @@ pub struct Scene {
     pub bends: Option<Family<Bend, 4>>,
     /// Tetrahedra, if the scene has a volumetric body.
     pub tets: Option<Family<Tet, 4>>,
+    /// Anisotropic membrane triangles, if the cloth uses the continuum model.
+    pub membranes: Option<Family<Membrane, 3>>,
     /// Ground plane, if any.
     pub ground: Option<Ground>,
     /// Sphere colliders.
@@ -81,8 +112,10 @@ pub struct SceneOptions {
     pub solid: Option<crate::material::Model>,
     /// Young's modulus of a volumetric scene (Pa).
     pub young: f64,
-    /// Poisson's ratio of a volumetric scene.
+    /// Poisson's ratio of a volumetric scene, and `ν_uv` of the anisotropic cloth.
     pub poisson: f64,
+    /// Cloth scenes: the anisotropic continuum cloth with these moduli instead of springs.
+    pub membrane: Option<Orthotropic>,
 }
 
 impl Default for SceneOptions {
@@ -96,6 +129,7 @@ impl Default for SceneOptions {
             solid: None,
             young: 2.0e6,
             poisson: 0.3,
+            membrane: None,
         }
     }
 }
@@ -134,6 +168,11 @@ pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
             }
             cloth::build(k, opts)
         }
+        K::Solid(_) if opts.membrane.is_some() => Err(Error::param(
+            "--material",
+            "aniso-cloth",
+            "is a cloth model; beam and cube take linear, stvk, neo-hookean, mooney-rivlin or arruda-boyce",
+        )),
         K::Solid(k) => solid::build(k, opts),
     }
 }
@@ -163,9 +202,9 @@ impl Scene {
 
     /// Number of constraints over all families.
     pub fn num_constraints(&self) -> usize {
-        self.springs.as_ref().map_or(0, Family::len)
-            + self.bends.as_ref().map_or(0, Family::len)
-            + self.tets.as_ref().map_or(0, Family::len)
+        let mut n = 0;
+        crate::for_each_family!(self, |_i, f| n += f.len());
+        n
     }
 
     /// Centre of mass of the free particles at the start (m): heights for gravitational energy

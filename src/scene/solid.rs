@@ -66,6 +66,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         springs: None,
         bends: None,
         tets: Some(Family::new(TetParams { elastic, scale: o.young }, tets, np)),
+        membranes: None,
         ground: Some(Ground { height: 0.0, friction: 0.5 }),
         spheres: Vec::new(),
         gravity: if o.gravity { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },

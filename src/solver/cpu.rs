@@ -4,8 +4,8 @@ use glam::Vec3;
 
 use crate::constraints::{Element, Form, gather};
 use crate::math::prelude::*;
-use crate::metrics;
-use crate::scene::{Family, Scene};
+use crate::metrics::{self, Lambdas};
+use crate::scene::{FAMILY_COUNT, Family, Scene};
 
 use super::contacts::{project_contacts, project_particle};
 use super::energy::{EnergyAware, global_scale, local_constraint};
@@ -55,9 +55,8 @@ pub struct CpuSolver<V: Vector> {
     scene: Scene,
     /// Particle state.
     pub particles: Particles<V>,
-    springs: FamilyState<V::S>,
-    bends: FamilyState<V::S>,
-    tets: FamilyState<V::S>,
+    /// Per-family multipliers and scratch, indexed as in [`crate::for_each_family`].
+    fam: [FamilyState<V::S>; FAMILY_COUNT],
     /// Jacobi's position corrections (allocated on first Jacobi step).
     dx: Vec<V>,
     jacobi_omega: Option<f32>,
@@ -72,12 +71,11 @@ pub struct CpuSolver<V: Vector> {
 impl<V: Vector> CpuSolver<V> {
     /// A solver at the scene's initial state.
     pub fn new(scene: Scene) -> Self {
-        let state = |n: usize| FamilyState { lambda: vec![V::S::zero(); n], ..FamilyState::default() };
+        let mut fam: [FamilyState<V::S>; FAMILY_COUNT] = Default::default();
+        crate::for_each_family!(scene, |i, f| fam[i].lambda = vec![V::S::zero(); f.len()]);
         CpuSolver {
             particles: Particles::from_scene(&scene),
-            springs: state(scene.springs.as_ref().map_or(0, Family::len)),
-            bends: state(scene.bends.as_ref().map_or(0, Family::len)),
-            tets: state(scene.tets.as_ref().map_or(0, Family::len)),
+            fam,
             dx: Vec::new(),
             jacobi_omega: None,
             local: None,
@@ -134,9 +132,9 @@ impl<V: Vector> CpuSolver<V> {
         let global = s.energy_aware == EnergyAware::Global;
         let h0 = if global { Some(self.ledger.carried.unwrap_or_else(|| self.total_energy())) } else { None };
         self.predict(k.h);
-        self.springs.lambda.fill(V::S::zero());
-        self.bends.lambda.fill(V::S::zero());
-        self.tets.lambda.fill(V::S::zero());
+        for st in &mut self.fam {
+            st.lambda.fill(V::S::zero());
+        }
         let local = s.energy_aware == EnergyAware::Local;
         if local {
             self.begin_local(k);
@@ -152,18 +150,11 @@ impl<V: Vector> CpuSolver<V> {
             match s.method {
                 Method::GaussSeidel => {
                     let l = self.local.as_ref().filter(|_| local);
-                    if let Some(f) = &self.scene.springs {
-                        let ctx = l.map(|l| local_ctx(l, &self.springs.energy_start));
-                        gauss_seidel(f, &mut self.springs.lambda, &mut self.particles, k, ctx);
-                    }
-                    if let Some(f) = &self.scene.bends {
-                        let ctx = l.map(|l| local_ctx(l, &self.bends.energy_start));
-                        gauss_seidel(f, &mut self.bends.lambda, &mut self.particles, k, ctx);
-                    }
-                    if let Some(f) = &self.scene.tets {
-                        let ctx = l.map(|l| local_ctx(l, &self.tets.energy_start));
-                        gauss_seidel(f, &mut self.tets.lambda, &mut self.particles, k, ctx);
-                    }
+                    crate::for_each_family!(self.scene, |i, f| {
+                        let st = &mut self.fam[i];
+                        let ctx = l.map(|l| local_ctx(l, &st.energy_start));
+                        gauss_seidel(f, &mut st.lambda, &mut self.particles, k, ctx)
+                    });
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
             }
@@ -201,15 +192,9 @@ impl<V: Vector> CpuSolver<V> {
         l.previous.copy_from_slice(&self.particles.x_prev);
         l.current.copy_from_slice(&self.particles.x);
         let x_prev = &self.particles.x_prev;
-        if let Some(f) = &self.scene.springs {
-            self.springs.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
-        }
-        if let Some(f) = &self.scene.bends {
-            self.bends.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
-        }
-        if let Some(f) = &self.scene.tets {
-            self.tets.energy_start = start_energies(f, x_prev, k.form, k.energy_compliance);
-        }
+        crate::for_each_family!(self.scene, |i, f| {
+            self.fam[i].energy_start = start_energies(f, x_prev, k.form, k.energy_compliance)
+        });
     }
 
     fn predict(&mut self, h: V::S) {
@@ -259,33 +244,19 @@ impl<V: Vector> CpuSolver<V> {
         self.jacobi_omega = Some(omega);
         let count = jacobi::constraint_counts(&self.scene);
         let omega: V::S = omega.into();
-        if let Some(f) = &self.scene.springs {
-            self.springs.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
-        }
-        if let Some(f) = &self.scene.bends {
-            self.bends.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
-        }
-        if let Some(f) = &self.scene.tets {
-            self.tets.jacobi_scale = jacobi::scales(&f.elements, &count, omega);
-        }
+        crate::for_each_family!(self.scene, |i, f| self.fam[i].jacobi_scale =
+            jacobi::scales(&f.elements, &count, omega));
         self.dx = vec![V::ZERO; self.particles.len()];
     }
 
     fn jacobi_iteration(&mut self, k: &StepConstants<V::S>, local: bool) {
         self.dx.fill(V::ZERO);
         let l = self.local.as_ref().filter(|_| local);
-        if let Some(f) = &self.scene.springs {
-            let ctx = l.map(|l| local_ctx(l, &self.springs.energy_start));
-            jacobi(f, &mut self.springs.lambda, &self.springs.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
-        }
-        if let Some(f) = &self.scene.bends {
-            let ctx = l.map(|l| local_ctx(l, &self.bends.energy_start));
-            jacobi(f, &mut self.bends.lambda, &self.bends.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
-        }
-        if let Some(f) = &self.scene.tets {
-            let ctx = l.map(|l| local_ctx(l, &self.tets.energy_start));
-            jacobi(f, &mut self.tets.lambda, &self.tets.jacobi_scale, &self.particles, &mut self.dx, k, ctx);
-        }
+        crate::for_each_family!(self.scene, |i, f| {
+            let st = &mut self.fam[i];
+            let ctx = l.map(|l| local_ctx(l, &st.energy_start));
+            jacobi(f, &mut st.lambda, &st.jacobi_scale, &self.particles, &mut self.dx, k, ctx)
+        });
         for (x, d) in self.particles.x.iter_mut().zip(&self.dx) {
             *x += *d;
         }
@@ -295,12 +266,7 @@ impl<V: Vector> CpuSolver<V> {
     /// multipliers of the last substep (SPEC §7). `(0, 0)` before the first step.
     pub fn residual(&self) -> (f64, f64) {
         let Some(k) = &self.last else { return (0.0, 0.0) };
-        metrics::residual(
-            &self.scene,
-            &self.particles.x,
-            [&self.springs.lambda, &self.bends.lambda, &self.tets.lambda],
-            k,
-        )
+        metrics::residual(&self.scene, &self.particles.x, self.lambdas(), k)
     }
 
     /// Total material energy of every constraint family (J), accumulated in `f64`.
@@ -308,9 +274,9 @@ impl<V: Vector> CpuSolver<V> {
         metrics::elastic_energy(&self.scene, &self.particles.x)
     }
 
-    /// Multipliers of the last substep: springs, bending, tetrahedra.
-    pub fn lambdas(&self) -> [&[V::S]; 3] {
-        [&self.springs.lambda, &self.bends.lambda, &self.tets.lambda]
+    /// Multipliers of the last substep, per family in solve order.
+    pub fn lambdas(&self) -> Lambdas<'_, V::S> {
+        std::array::from_fn(|i| self.fam[i].lambda.as_slice())
     }
 
     /// Constants of the last substep run, if any.

@@ -7,16 +7,13 @@ use crate::scene::Scene;
 /// `nᵢ`: the number of constraints (all families) touching each particle.
 pub fn constraint_counts(scene: &Scene) -> Vec<u32> {
     let mut count = vec![0u32; scene.num_particles()];
-    let mut tally = |idx: &[u32]| idx.iter().for_each(|&i| count[i as usize] += 1);
-    if let Some(f) = &scene.springs {
-        f.elements.iter().for_each(|e| tally(&e.particles()));
-    }
-    if let Some(f) = &scene.bends {
-        f.elements.iter().for_each(|e| tally(&e.particles()));
-    }
-    if let Some(f) = &scene.tets {
-        f.elements.iter().for_each(|e| tally(&e.particles()));
-    }
+    crate::for_each_family!(scene, |_i, f| {
+        for e in &f.elements {
+            for i in e.particles() {
+                count[i as usize] += 1;
+            }
+        }
+    });
     count
 }
 

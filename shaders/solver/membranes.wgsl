@@ -1,0 +1,99 @@
+// Anisotropic continuum cloth (mirrors src/constraints/membrane.rs): the orthotropic StVK
+// triangle. F = [x₁ − x₀, x₂ − x₀] D_m⁻¹ (3×2, columns f_u, f_v), ε = (E_uu, E_vv, 2E_uv) of
+// E = ½(FᵀF − I), Ψ = ½ εᵀ C_orth ε, E = A₀ Ψ; s = C_orth ε, P = F [[s₀, s₂], [s₂, s₁]],
+// [∇x₁ ∇x₂] = A₀ P D_m⁻ᵀ, ∇x₀ = −Σ. Compliant form: C = √(2E/s), α = 1/s, ∇C = ∇E/(s C).
+
+struct Membrane {
+    p0: u32,
+    p1: u32,
+    p2: u32,
+    // Rest area A₀ (m²).
+    area: f32,
+    // D_m⁻¹ by columns (1/m).
+    dm_inv: vec4<f32>,
+}
+
+@group(1) @binding(0) var<storage, read> membranes: array<Membrane>;
+
+const ARITY: u32 = 3u;
+const PARTIAL_FAMILY: u32 = PARTIAL_MEMBRANES;
+
+fn element_particles(j: u32) -> array<u32, ARITY> {
+    let m = membranes[j];
+    return array<u32, ARITY>(m.p0, m.p1, m.p2);
+}
+
+struct MembraneState {
+    // Columns of F.
+    fu: vec3<f32>,
+    fv: vec3<f32>,
+    // Voigt strain and C_orth ε.
+    strain: vec3<f32>,
+    stress: vec3<f32>,
+}
+
+fn membrane_state(m: Membrane, p: array<vec3<f32>, ARITY>) -> MembraneState {
+    let d1 = p[1] - p[0];
+    let d2 = p[2] - p[0];
+    let k = m.dm_inv;
+    var out: MembraneState;
+    out.fu = d1 * k.x + d2 * k.y;
+    out.fv = d1 * k.z + d2 * k.w;
+    out.strain = vec3<f32>((dot(out.fu, out.fu) - 1.0) * 0.5, (dot(out.fv, out.fv) - 1.0) * 0.5, dot(out.fu, out.fv));
+    let e = out.strain;
+    out.stress = vec3<f32>(
+        params.c_uu * e.x + params.c_uv * e.y,
+        params.c_uv * e.x + params.c_vv * e.y,
+        params.c_ss * e.z,
+    );
+    return out;
+}
+
+fn membrane_energy(m: Membrane, st: MembraneState) -> f32 {
+    let e = st.strain;
+    let s = st.stress;
+    return m.area * ((e.x * s.x + e.y * s.y + e.z * s.z) * 0.5);
+}
+
+fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
+    let m = membranes[j];
+    return membrane_energy(m, membrane_state(m, p));
+}
+
+// Bit test for NaN and infinity (WGSL has no isFinite).
+fn is_finite(a: f32) -> bool {
+    return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u;
+}
+
+fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
+    let m = membranes[j];
+    let st = membrane_state(m, p);
+    let s = st.stress;
+    let pu = st.fu * s.x + st.fv * s.z;
+    let pv = st.fu * s.z + st.fv * s.y;
+    let k = m.dm_inv;
+    let g1 = (pu * k.x + pv * k.z) * m.area;
+    let g2 = (pu * k.y + pv * k.w) * m.area;
+    var out: Proj;
+    out.g = array<vec3<f32>, ARITY>(-(g1 + g2), g1, g2);
+    let e = membrane_energy(m, st);
+    if (params.form == FORM_ENERGY) {
+        out.c = e;
+        out.alpha = params.energy_compliance;
+        return out;
+    }
+    let scale = params.membrane_scale;
+    let c = sqrt(2.0 * max(e, 0.0) / scale);
+    out.alpha = 1.0 / scale;
+    if (c <= 1e-12 || !is_finite(c)) {
+        out.c = 0.0;
+        out.g = array<vec3<f32>, ARITY>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
+        return out;
+    }
+    out.c = c;
+    let inv = 1.0 / (scale * c);
+    for (var i = 0u; i < ARITY; i++) {
+        out.g[i] = out.g[i] * inv;
+    }
+    return out;
+}

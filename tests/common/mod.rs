@@ -1,0 +1,55 @@
+//! Helpers shared by the constraint tests: random vectors and central finite differences.
+#![allow(dead_code)]
+
+use eapbd::constraints::{Element, Form};
+use glam::DVec3;
+use rand::Rng;
+use rand::rngs::SmallRng;
+
+/// A vector with coordinates uniform in `(-s, s)`.
+pub fn rand_vec(rng: &mut SmallRng, s: f64) -> DVec3 {
+    DVec3::new(rng.random_range(-s..s), rng.random_range(-s..s), rng.random_range(-s..s))
+}
+
+/// Central differences of `f` with respect to every coordinate of every particle.
+pub fn fd_gradient<const N: usize>(x: &[DVec3; N], f: impl Fn(&[DVec3; N]) -> f64) -> [DVec3; N] {
+    let h = 1e-6;
+    let mut g = [DVec3::ZERO; N];
+    for n in 0..N {
+        for k in 0..3 {
+            let (mut xp, mut xm) = (*x, *x);
+            xp[n][k] += h;
+            xm[n][k] -= h;
+            g[n][k] = (f(&xp) - f(&xm)) / (2.0 * h);
+        }
+    }
+    g
+}
+
+/// Asserts `a ≈ b` particle by particle, relative to the largest of `b` (at least 1e-3).
+pub fn assert_close<const N: usize>(what: &str, a: &[DVec3; N], b: &[DVec3; N]) {
+    let scale = b.iter().map(|v| v.length()).fold(1e-3, f64::max);
+    for n in 0..N {
+        let err = (a[n] - b[n]).length();
+        assert!(err <= 1e-5 * scale, "{what}: particle {n}: analytic {:?} vs finite differences {:?}", a[n], b[n]);
+    }
+}
+
+/// Checks energy, energy gradient and compliant-form gradient of `e` at `x` against finite
+/// differences.
+pub fn check_gradients<E: Element<N>, const N: usize>(what: &str, e: &E, p: &E::Params, x: &[DVec3; N]) {
+    let g = e.energy_gradient(p, x);
+    let fd = fd_gradient(x, |y| e.energy(p, y));
+    assert_close(&format!("{what} energy gradient"), &g, &fd);
+    let proj = e.compliant(p, x);
+    let fd_c = fd_gradient(x, |y| e.compliant(p, y).c);
+    assert_close(&format!("{what} compliant gradient"), &proj.grad, &fd_c);
+    // The compliant form's energy C²/(2α) is the material energy.
+    let e_c = proj.c * proj.c / (2.0 * proj.alpha);
+    let e_m = e.energy(p, x);
+    assert!((e_c - e_m).abs() <= 1e-9 * e_m.abs().max(1e-9), "{what}: C²/2α = {e_c} but E = {e_m}");
+    // The energy form projects on C = E.
+    let pe = e.constraint(p, x, Form::Energy, 1e-5);
+    assert_eq!(pe.c, e_m);
+    assert_eq!(pe.alpha, 1e-5);
+}
