@@ -72,30 +72,37 @@ fn validate_reports_a_conflict() {
     assert!(err.contains("share particle 1"), "{err}");
 }
 
-#[test]
-fn scene_families_are_stored_in_color_order() {
-    let s = scene::build("cloth", &SceneOptions::default()).unwrap();
-    for (name, idx, ranges) in [
-        (
-            "springs",
-            s.springs.as_ref().unwrap().elements.iter().map(|e| vec![e.a, e.b]).collect::<Vec<_>>(),
-            &s.springs.as_ref().unwrap().colors,
-        ),
-        (
-            "bending",
-            s.bends.as_ref().unwrap().elements.iter().map(|e| e.p.to_vec()).collect(),
-            &s.bends.as_ref().unwrap().colors,
-        ),
-    ] {
-        assert_eq!(ranges.first().map(|r| r.start), Some(0), "{name}");
-        assert_eq!(ranges.last().map(|r| r.end as usize), Some(idx.len()), "{name}");
-        for r in ranges {
-            let mut used = std::collections::HashSet::new();
-            for e in &idx[r.start as usize..r.end as usize] {
-                for p in e {
-                    assert!(used.insert(*p), "{name}: particle {p} twice in one color group");
-                }
+/// Asserts that `ranges` cover `idx` from 0 to its end and no range has a particle twice.
+fn assert_color_groups(name: &str, idx: &[Vec<u32>], ranges: &[std::ops::Range<u32>]) {
+    assert_eq!(ranges.first().map(|r| r.start), Some(0), "{name}");
+    assert_eq!(ranges.last().map(|r| r.end as usize), Some(idx.len()), "{name}");
+    for r in ranges {
+        let mut used = std::collections::HashSet::new();
+        for e in &idx[r.start as usize..r.end as usize] {
+            for p in e {
+                assert!(used.insert(*p), "{name}: particle {p} twice in one color group");
             }
         }
+    }
+}
+
+#[test]
+fn scene_families_are_stored_in_color_order() {
+    // Every family kind: springs and bending (cloth), membrane triangles (aniso-cloth),
+    // volumetric and centroid tetrahedra (cube).
+    let s = scene::build("cloth", &SceneOptions::default()).unwrap();
+    let f = s.springs.as_ref().unwrap();
+    assert_color_groups("springs", &f.elements.iter().map(|e| vec![e.a, e.b]).collect::<Vec<_>>(), &f.colors);
+    let f = s.bends.as_ref().unwrap();
+    assert_color_groups("bending", &f.elements.iter().map(|e| e.p.to_vec()).collect::<Vec<_>>(), &f.colors);
+    let membrane = Some(eapbd::constraints::Orthotropic::new(1e3, 1e2, None, 0.2).unwrap());
+    let s = scene::build("cloth", &SceneOptions { membrane, ..SceneOptions::default() }).unwrap();
+    let f = s.membranes.as_ref().unwrap();
+    assert_color_groups("membranes", &f.elements.iter().map(|e| e.p.to_vec()).collect::<Vec<_>>(), &f.colors);
+    for tets in [scene::TetMode::Volume, scene::TetMode::Centroid] {
+        let s = scene::build("cube", &SceneOptions { tets, ..SceneOptions::default() }).unwrap();
+        let f = s.tets.as_ref().unwrap();
+        let idx: Vec<Vec<u32>> = f.elements.iter().map(|e| e.p.to_vec()).collect();
+        assert_color_groups(&format!("{tets:?} tetrahedra"), &idx, &f.colors);
     }
 }

@@ -69,3 +69,40 @@ fn energy_aware_settings_run_on_tetrahedra() {
         assert!(sv.particles.x.iter().all(|p| p.is_finite() && p.y > -0.01), "{mode:?}");
     }
 }
+
+#[test]
+fn centroid_tetrahedra_pair_each_surface_triangle_with_the_centroid() {
+    use eapbd::mesh::TetMesh;
+    use eapbd::scene::TetMode;
+    let volume = scene::build("cube", &SceneOptions::default()).unwrap();
+    let sc = scene::build("cube", &SceneOptions { tets: TetMode::Centroid, ..SceneOptions::default() }).unwrap();
+    let tets = sc.tets.as_ref().unwrap();
+    // One tetrahedron per surface triangle; the surface vertices plus the centroid.
+    assert_eq!(tets.len(), volume.triangles.len());
+    assert_eq!(sc.triangles.len(), volume.triangles.len());
+    let surface_vertices: std::collections::BTreeSet<u32> = volume.triangles.iter().flatten().copied().collect();
+    assert_eq!(sc.num_particles(), surface_vertices.len() + 1);
+    let centroid = *sc.positions.last().unwrap();
+    assert!(centroid.distance(Vec3::new(0.0, 0.55, 0.0)) < 1e-5, "centroid {centroid}");
+    assert!(tets.elements.iter().all(|t| t.p[3] as usize == sc.num_particles() - 1));
+    // Same total mass (1000 kg/m³ × 0.027 m³) as the volumetric cube.
+    let mass = |s: &eapbd::scene::Scene| s.inv_mass.iter().map(|w| 1.0 / w).sum::<f32>();
+    assert!((mass(&sc) - 27.0).abs() < 1e-3 && (mass(&volume) - 27.0).abs() < 1e-3);
+    // It falls, lands and keeps its volume.
+    let mut sv = CpuSolver::<Vec3>::new(sc.clone());
+    for _ in 0..120 {
+        sv.step_frame(&Settings { substeps: 2, iterations: 10, damping: 1.0, ..Settings::default() });
+    }
+    let x = &sv.particles.x;
+    assert!(x.iter().all(|p| p.is_finite() && p.y > -0.01), "fell through or blew up");
+    let v: f32 = tets.elements.iter().map(|t| t.volume * t.deformation(&t.p.map(|i| x[i as usize])).det()).sum();
+    assert!((v / 0.027 - 1.0).abs() < 0.2, "volume {v} m³ of 0.027");
+    assert!(x.iter().map(|p| p.y).fold(f32::MAX, f32::min) < 0.05, "did not land");
+    // Surfaces that enclose nothing, or a triangle in the centroid's plane, are refused.
+    let open = TetMesh::centroid_fan(&[Vec3::ZERO, Vec3::X, Vec3::Y], &[[0, 1, 2]]).unwrap_err();
+    assert!(open.to_string().contains("closed surface"), "{open}");
+    assert!(TetMesh::centroid_fan(&[Vec3::ZERO], &[[0, 1, 2]]).is_err());
+    // Cloth scenes refuse the option.
+    let cloth = scene::build("cloth", &SceneOptions { tets: TetMode::Centroid, ..SceneOptions::default() });
+    assert!(cloth.unwrap_err().to_string().contains("--tets"));
+}

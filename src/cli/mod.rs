@@ -10,7 +10,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 use eapbd::constraints::{Form, Orthotropic, SpringMaterial};
 use eapbd::material::Model;
-use eapbd::scene::SceneOptions;
+use eapbd::scene::{SceneOptions, TetMode};
 use eapbd::solver::{EnergyAware, Method, Settings};
 
 /// Energy-aware position-based dynamics for elastic models.
@@ -91,6 +91,10 @@ pub struct SceneArgs {
     /// Poisson's ratio of the volumetric scenes, and ν_uv of aniso-cloth.
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.3)]
     pub poisson: f64,
+    /// Tetrahedra of beam and cube: volume (a volumetric mesh) or centroid (the paper's surface
+    /// triangles paired with the centroid).
+    #[arg(long, default_value = "volume", value_parser = named::<TetMode>)]
+    pub tets: TetMode,
     /// aniso-cloth: warp modulus E_u along x (N/m; default: --stiffness).
     #[arg(long, allow_negative_numbers = true)]
     pub warp: Option<f64>,
@@ -183,6 +187,7 @@ impl SceneArgs {
             young: self.young,
             poisson: self.poisson,
             membrane,
+            tets: self.tets,
         })
     }
 

@@ -1,8 +1,11 @@
-//! Tetrahedral meshes: a box split into tetrahedra, and the boundary surface for drawing.
+//! Tetrahedral meshes: a box split into tetrahedra, the paper's centroid tetrahedra of a closed
+//! surface, and the boundary surface for drawing.
 
 use std::collections::HashMap;
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
+
+use crate::error::{Error, Result};
 
 /// A tetrahedral mesh in metres.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -49,6 +52,59 @@ impl TetMesh {
             }
         }
         TetMesh { positions, tets }
+    }
+
+    /// The paper's tetrahedra for a closed surface: each triangle paired with the volume centroid
+    /// of the enclosed solid (`c = Σᵢ Vᵢ (a + b + c)/4 / Σᵢ Vᵢ` over the signed volumes
+    /// `Vᵢ = a·(b × c)/6` of the triangles' cones from the origin). Keeps only the vertices the
+    /// triangles use (renumbered in order) and appends the centroid as the last vertex; each
+    /// tetrahedron is ordered `[a, b, c, centroid]` or `[a, c, b, centroid]` for a positive volume.
+    /// Fails when the surface encloses no volume or a triangle is coplanar with the centroid.
+    pub fn centroid_fan(positions: &[Vec3], triangles: &[[u32; 3]]) -> Result<Self> {
+        let mut remap = vec![u32::MAX; positions.len()];
+        let mut kept = Vec::new();
+        for t in triangles {
+            for &i in t {
+                let slot = remap.get_mut(i as usize).ok_or_else(|| {
+                    Error::InvalidMesh(format!("triangle {t:?} names vertex {i} of {}", positions.len()))
+                })?;
+                if *slot == u32::MAX {
+                    *slot = kept.len() as u32;
+                    kept.push(positions[i as usize]);
+                }
+            }
+        }
+        let (mut volume, mut moment) = (0.0f64, DVec3::ZERO);
+        for t in triangles {
+            let [a, b, c] = t.map(|i| positions[i as usize].as_dvec3());
+            let v = a.dot(b.cross(c)) / 6.0;
+            volume += v;
+            moment += v * (a + b + c) / 4.0;
+        }
+        let extent = kept.iter().fold(0.0f32, |m, p| m.max(p.abs().max_element())) as f64;
+        if !(volume.abs() > 1e-9 * extent.powi(3).max(1e-30)) {
+            return Err(Error::InvalidMesh(format!(
+                "the surface encloses a volume of {volume:.3e} m³: centroid tetrahedra need a closed surface"
+            )));
+        }
+        let center = moment / volume;
+        let m = kept.len() as u32;
+        let mut tets = Vec::with_capacity(triangles.len());
+        for (n, t) in triangles.iter().enumerate() {
+            let [a, b, c] = t.map(|i| remap[i as usize]);
+            let [pa, pb, pc] = t.map(|i| positions[i as usize].as_dvec3() - center);
+            let v = pa.dot(pb.cross(pc)) / 6.0;
+            let size = (pb - pa).length().max((pc - pa).length()).max(pa.length());
+            if v.abs() <= 1e-9 * size.powi(3) {
+                return Err(Error::InvalidMesh(format!(
+                    "triangle {n} {t:?} is coplanar with the centroid: its tetrahedron would be flat"
+                )));
+            }
+            // det[b − a, c − a, d − a] of [a, b, c, d] equals −6 v for d the centroid.
+            tets.push(if v < 0.0 { [a, b, c, m] } else { [a, c, b, m] });
+        }
+        kept.push(center.as_vec3());
+        Ok(TetMesh { positions: kept, tets })
     }
 
     /// Faces that belong to one tetrahedron only, oriented outwards.

@@ -116,6 +116,30 @@ pub struct SceneOptions {
     pub poisson: f64,
     /// Cloth scenes: the anisotropic continuum cloth with these moduli instead of springs.
     pub membrane: Option<Orthotropic>,
+    /// Volumetric scenes: how the body is split into tetrahedra.
+    pub tets: TetMode,
+}
+
+/// How a volumetric scene's body is split into tetrahedra.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TetMode {
+    /// A volumetric mesh filling the body.
+    #[default]
+    Volume,
+    /// The paper's "3D meshes": each triangle of the closed surface paired with the centroid.
+    Centroid,
+}
+
+impl TetMode {
+    /// Names accepted on the command line.
+    pub const NAMES: [&'static str; 2] = ["volume", "centroid"];
+}
+
+impl std::str::FromStr for TetMode {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Error::lookup("tetrahedra", s, &[("volume", TetMode::Volume), ("centroid", TetMode::Centroid)])
+    }
 }
 
 impl Default for SceneOptions {
@@ -130,6 +154,7 @@ impl Default for SceneOptions {
             young: 2.0e6,
             poisson: 0.3,
             membrane: None,
+            tets: TetMode::Volume,
         }
     }
 }
@@ -158,6 +183,9 @@ pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
         ],
     )?;
     match kind {
+        K::Cloth(_) if opts.tets != TetMode::Volume => {
+            Err(Error::param("--tets", "centroid", "applies to the volumetric scenes beam and cube"))
+        }
         K::Cloth(k) => {
             if let Some(m) = opts.solid {
                 return Err(Error::param(

@@ -2,7 +2,7 @@
 
 use glam::Vec3;
 
-use super::{Family, Ground, Scene, SceneOptions};
+use super::{Family, Ground, Scene, SceneOptions, TetMode};
 use crate::constraints::{Tet, TetParams};
 use crate::error::{Error, Result};
 use crate::material::{Elastic, Model};
@@ -32,6 +32,10 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
             let n = o.resolution.unwrap_or(4);
             (TetMesh::box_grid([n, n, n], Vec3::new(-0.15, 0.4, -0.15), Vec3::new(0.15, 0.7, 0.15)), "cube")
         }
+    };
+    let mesh = match o.tets {
+        TetMode::Volume => mesh,
+        TetMode::Centroid => TetMesh::centroid_fan(&mesh.positions, &mesh.boundary())?,
     };
     let np = mesh.positions.len();
     let mut inv_mass: Vec<f32> = mesh.lumped_masses(DENSITY).iter().map(|m| 1.0 / m).collect();
