@@ -82,7 +82,7 @@ impl TetMesh {
             moment += v * (a + b + c) / 4.0;
         }
         let extent = kept.iter().fold(0.0f32, |m, p| m.max(p.abs().max_element())) as f64;
-        if !(volume.abs() > 1e-9 * extent.powi(3).max(1e-30)) {
+        if volume.is_nan() || volume.abs() <= 1e-9 * extent.powi(3).max(1e-30) {
             return Err(Error::InvalidMesh(format!(
                 "the surface encloses a volume of {volume:.3e} m³: centroid tetrahedra need a closed surface"
             )));
