@@ -10,7 +10,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 use eapbd::constraints::{Form, Orthotropic, SpringMaterial};
 use eapbd::material::Model;
-use eapbd::scene::{SceneOptions, TetMode};
+use eapbd::scene::{Body, SceneOptions, TetMode};
 use eapbd::solver::{EnergyAware, Method, Settings};
 
 /// Energy-aware position-based dynamics for elastic models.
@@ -72,9 +72,21 @@ fn material(s: &str) -> Result<MaterialArg, eapbd::Error> {
 /// Scene and solver options common to every command that runs a scene.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Scene: cloth, cloth-paper, cloth-sphere, cloth-free, beam or cube.
+    /// Scene: cloth, cloth-paper, cloth-sphere, cloth-free, beam, cube, bunny or bunny-paper.
     #[arg(long, default_value = "cloth-paper")]
     pub scene: String,
+    /// bunny, bunny-paper: simulate this OBJ surface instead of the bunny (scaled to 0.3 m tall;
+    /// closed for tetrahedral bodies).
+    #[arg(long)]
+    pub mesh: Option<std::path::PathBuf>,
+    /// bunny, bunny-paper: springs (surface spring network), centroid-tets (the paper's surface
+    /// triangles with the centroid) or volume (a tetrahedral lattice with the surface embedded).
+    /// Default: volume for bunny, springs for bunny-paper.
+    #[arg(long, value_parser = named::<Body>)]
+    pub body: Option<Body>,
+    /// volume bodies: lattice cells along the longest side (default 16).
+    #[arg(long)]
+    pub lattice: Option<u32>,
     /// Particles per side of a cloth (default 41).
     #[arg(long)]
     pub resolution: Option<u32>,
@@ -114,9 +126,9 @@ pub struct SceneArgs {
     /// Substeps per frame.
     #[arg(long, default_value_t = 1)]
     pub substeps: u32,
-    /// Constraint iterations per substep.
-    #[arg(long, default_value_t = 30)]
-    pub iterations: u32,
+    /// Constraint iterations per substep (default 30; the paper's 15 for bunny-paper).
+    #[arg(long)]
+    pub iterations: Option<u32>,
     /// Projection form: compliant (standard XPBD) or energy (the paper's C = E).
     #[arg(long, default_value = "compliant", value_parser = named::<Form>)]
     pub form: Form,
@@ -150,13 +162,13 @@ pub struct SceneArgs {
 impl SceneArgs {
     /// The scene options these arguments select.
     pub fn scene_options(&self) -> eapbd::Result<SceneOptions> {
-        let solid_scene = matches!(self.scene.as_str(), "beam" | "cube");
+        let solid_scene = eapbd::scene::uses_tets(&self.scene, self.body);
         let (material, solid) = match self.material {
             Some(MaterialArg::Spring(m)) if solid_scene => {
                 return Err(eapbd::Error::param(
                     "--material",
                     m.name(),
-                    "is a spring model; beam and cube take linear, stvk, neo-hookean, mooney-rivlin or arruda-boyce",
+                    "is a spring model; tetrahedral bodies take linear, stvk, neo-hookean, mooney-rivlin or arruda-boyce",
                 ));
             }
             Some(MaterialArg::Spring(m)) => (m, None),
@@ -188,7 +200,18 @@ impl SceneArgs {
             poisson: self.poisson,
             membrane,
             tets: self.tets,
+            body: self.body,
+            lattice: self.lattice,
         })
+    }
+
+    /// The scene these arguments select (reading `--mesh` if given).
+    pub fn build_scene(&self) -> eapbd::Result<eapbd::scene::Scene> {
+        let opts = self.scene_options()?;
+        match &self.mesh {
+            Some(path) => eapbd::scene::build_with_surface(&self.scene, &opts, eapbd::mesh::load_obj(path)?),
+            None => eapbd::scene::build(&self.scene, &opts),
+        }
     }
 
     /// The solver settings these arguments select, validated.
@@ -196,7 +219,7 @@ impl SceneArgs {
         let s = Settings {
             dt: self.dt,
             substeps: self.substeps,
-            iterations: self.iterations,
+            iterations: self.iterations.unwrap_or_else(|| eapbd::scene::default_iterations(&self.scene)),
             form: self.form,
             method: self.solver,
             jacobi_omega: self.jacobi_omega,

@@ -7,7 +7,6 @@ use anyhow::Context;
 use clap::Args;
 use eapbd::gpu::{GpuContext, Kernels};
 use eapbd::render::{Snapshotter, save_png};
-use eapbd::scene;
 use eapbd::simulation::{Backend, Simulation};
 
 use super::{SceneArgs, named};
@@ -42,7 +41,7 @@ pub struct RenderArgs {
 pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     anyhow::ensure!(a.every > 0, "--every must be at least 1");
     let settings = a.scene.settings()?;
-    let scene = scene::build(&a.scene.scene, &a.scene.scene_options()?)?;
+    let scene = a.scene.build_scene()?;
     let ctx = GpuContext::new()?;
     let kernels = Arc::new(Kernels::new(&ctx.device));
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create {}", a.out.display()))?;

@@ -10,7 +10,6 @@ use std::sync::Arc;
 
 use eapbd::gpu::{GpuContext, Kernels};
 use eapbd::metrics::FrameStats;
-use eapbd::scene;
 use eapbd::simulation::{Backend, Simulation};
 
 use super::{SceneArgs, named};
@@ -30,9 +29,17 @@ pub struct SimulateArgs {
     /// Write every frame's figures as CSV to this file.
     #[arg(long)]
     pub csv: Option<PathBuf>,
-    /// Write the final mesh as Wavefront OBJ to this file.
+    /// Write the final surface (as drawn: the embedded surface where there is one) as Wavefront
+    /// OBJ to this file.
     #[arg(long)]
     pub export_obj: Option<PathBuf>,
+    /// Write the surface as an OBJ sequence into this directory (frame_00010.obj, ...), for
+    /// Blender and other tools.
+    #[arg(long)]
+    pub export_obj_dir: Option<PathBuf>,
+    /// Frames between the files of --export-obj-dir.
+    #[arg(long, default_value_t = 10)]
+    pub export_every: u32,
     /// Solver backend: cpu or gpu.
     #[arg(long, default_value = "cpu", value_parser = named::<Backend>)]
     pub backend: Backend,
@@ -41,7 +48,7 @@ pub struct SimulateArgs {
 /// Runs the command.
 pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     let settings = a.scene.settings()?;
-    let scene = scene::build(&a.scene.scene, &a.scene.scene_options()?)?;
+    let scene = a.scene.build_scene()?;
     let gpu = match a.backend {
         Backend::Gpu => {
             let ctx = GpuContext::new()?;
@@ -74,6 +81,9 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         }
         None => None,
     };
+    if let Some(dir) = &a.export_obj_dir {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
     let mut sim = Simulation::new(a.backend, scene, gpu.as_ref().map(|(c, k)| (c, k)))?;
     let mut total_ms = 0.0;
     let mut last = FrameStats::default();
@@ -85,6 +95,12 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         }
         let ms = t.elapsed().as_secs_f64() * 1e3;
         total_ms += ms;
+        if let Some(dir) = &a.export_obj_dir
+            && frame % a.export_every.max(1) == 0
+        {
+            let (x, triangles) = sim.scene().surface(&sim.positions()?);
+            eapbd::mesh::write_obj(&dir.join(format!("frame_{frame:05}.obj")), &x, triangles)?;
+        }
         let printing = a.print_every > 0 && frame % a.print_every == 0;
         if printing || csv.is_some() || frame == a.frames {
             last = sim.stats(frame, ms)?;
@@ -111,7 +127,8 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         if finite { "all finite" } else { "NON-FINITE VALUES" }
     );
     if let Some(path) = &a.export_obj {
-        eapbd::mesh::write_obj(path, &x, &sim.scene().triangles)?;
+        let (x, triangles) = sim.scene().surface(&x);
+        eapbd::mesh::write_obj(path, &x, triangles)?;
         println!("wrote {}", path.display());
     }
     anyhow::ensure!(finite, "the simulation produced non-finite values");
@@ -128,6 +145,12 @@ fn families(scene: &eapbd::scene::Scene) -> String {
     }
     if let Some(f) = &scene.tets {
         parts.push(format!("{} tetrahedra, {}", f.len(), f.stats));
+    }
+    if let Some(f) = &scene.membranes {
+        parts.push(format!("{} membrane triangles, {}", f.len(), f.stats));
+    }
+    if let Some(e) = &scene.embedding {
+        parts.push(format!("embedded surface of {} vertices, {} triangles", e.bindings.len(), e.triangles.len()));
     }
     parts.join("; ")
 }

@@ -36,6 +36,8 @@ pub const PARTICLES: &str =
     concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/particles.wgsl"));
 /// Vertex normals for drawing.
 pub const NORMALS: &str = include_str!("../../shaders/render/normals.wgsl");
+/// An embedded surface's vertices from the particles.
+pub const EMBED: &str = include_str!("../../shaders/render/embed.wgsl");
 /// Lit two-sided surfaces.
 pub const MESH: &str =
     concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/mesh.wgsl"));
@@ -44,13 +46,14 @@ pub const GROUND: &str =
     concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/ground.wgsl"));
 
 /// Every composed module with its name, for validation.
-pub const ALL: [(&str, &str); 8] = [
+pub const ALL: [(&str, &str); 9] = [
     ("springs", SPRINGS),
     ("bending", BENDING),
     ("tets", TETS),
     ("membranes", MEMBRANES),
     ("particles", PARTICLES),
     ("normals", NORMALS),
+    ("embed", EMBED),
     ("mesh", MESH),
     ("ground", GROUND),
 ];

@@ -1,14 +1,19 @@
 //! Triangle meshes: generation, topology (edges, dihedral pairs), lumped masses, OBJ export.
 
 mod grid;
+mod lattice;
+mod load;
 mod obj;
+mod refine;
 mod tetmesh;
 mod topology;
 
 pub use grid::grid;
+pub use lattice::{Binding, EmbeddedTets, embedded_positions, winding_number};
+pub use load::{load_obj, parse_obj};
 pub use obj::write_obj;
 pub use tetmesh::TetMesh;
-pub use topology::{dihedral_pairs, unique_edges};
+pub use topology::{closed_surface_problem, dihedral_pairs, unique_edges};
 
 use glam::Vec3;
 
@@ -39,6 +44,26 @@ impl TriMesh {
             }
         }
         Ok(())
+    }
+
+    /// Checks that the mesh is a closed, consistently oriented 2-manifold (every edge shared by
+    /// exactly two triangles running it in opposite directions), as a solid's surface must be.
+    pub fn validate_closed(&self) -> Result<()> {
+        match closed_surface_problem(&self.triangles) {
+            Some(p) => Err(Error::InvalidMesh(format!("not a closed surface: {p}"))),
+            None => Ok(()),
+        }
+    }
+
+    /// Volume enclosed by a closed, outward-oriented surface (m³): `Σ a·(b × c)/6`.
+    pub fn enclosed_volume(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.positions[i as usize].as_dvec3());
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
     }
 
     /// Area of triangle `t` in m².

@@ -43,3 +43,34 @@ pub fn dihedral_pairs(triangles: &[[u32; 3]]) -> Vec<[u32; 4]> {
     }
     pairs
 }
+
+/// Why `triangles` is not a closed, consistently oriented 2-manifold, or `None` when it is: the
+/// first edge used by one triangle only (a hole), by more than two, or twice in the same
+/// direction (inconsistent orientation).
+pub fn closed_surface_problem(triangles: &[[u32; 3]]) -> Option<String> {
+    let mut directed: HashMap<(u32, u32), u32> = HashMap::with_capacity(triangles.len() * 3);
+    for t in triangles {
+        for k in 0..3 {
+            *directed.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
+        }
+    }
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let forward = directed[&(a, b)];
+            let back = directed.get(&(b, a)).copied().unwrap_or(0);
+            if forward + back == 1 {
+                return Some(format!("edge ({a}, {b}) borders one triangle only (a hole)"));
+            }
+            if forward > 1 {
+                return Some(format!(
+                    "edge ({a}, {b}) runs the same way in {forward} triangles (non-manifold or flipped)"
+                ));
+            }
+            if forward + back > 2 {
+                return Some(format!("edge ({a}, {b}) is shared by {} triangles (non-manifold)", forward + back));
+            }
+        }
+    }
+    None
+}

@@ -3,6 +3,7 @@
 //! Frames are drawn into [`FrameViews`], so windows and offscreen targets share one code path.
 
 mod camera;
+mod embed;
 mod headless;
 mod pipelines;
 mod scene_view;
@@ -10,6 +11,7 @@ mod sphere;
 mod target;
 
 pub use camera::{Camera, CameraUniform};
+pub use embed::Embedder;
 pub use headless::{HEADLESS_SAMPLES, Snapshotter};
 pub use pipelines::Renderer;
 pub use scene_view::SceneView;

@@ -4,6 +4,7 @@
 use wgpu::util::DeviceExt;
 
 use super::camera::Camera;
+use super::embed::Embedder;
 use super::pipelines::Renderer;
 use super::sphere::uv_sphere;
 use super::target::FrameViews;
@@ -58,6 +59,8 @@ pub struct SceneView {
     ground: Option<wgpu::BindGroup>,
     normals_group: wgpu::BindGroup,
     n_vertices: u32,
+    /// Places an embedded surface's vertices each frame (scenes with an embedding).
+    pub embedder: Option<Embedder>,
     /// The camera in use.
     pub camera: Camera,
     /// Whether the simulated surface is drawn (tests draw the background alone to measure it).
@@ -65,15 +68,20 @@ pub struct SceneView {
 }
 
 impl SceneView {
-    /// Draw data for `scene`, whose particle positions live in `positions` (`vec4` per particle,
-    /// `STORAGE | VERTEX`: the GPU solver's buffer, or one the CPU backend uploads into).
-    pub fn new(device: &wgpu::Device, r: &Renderer, scene: &Scene, positions: &wgpu::Buffer) -> Self {
+    /// Draw data for `scene`, whose particle positions live in `particles` (`vec4` per particle,
+    /// `STORAGE | VERTEX`: the GPU solver's buffer, or one the CPU backend uploads into). A scene
+    /// with an embedding draws its embedded surface, placed from the particles on the GPU.
+    pub fn new(device: &wgpu::Device, r: &Renderer, scene: &Scene, particles: &wgpu::Buffer) -> Self {
         use wgpu::BufferUsages as U;
-        let n = scene.num_particles();
+        let embedder = scene.embedding.as_ref().map(|e| Embedder::new(device, e, particles));
+        let (positions, triangles, n) = match (&embedder, &scene.embedding) {
+            (Some(em), Some(e)) => (&em.positions, &e.triangles, e.bindings.len()),
+            _ => (particles, &scene.triangles, scene.num_particles()),
+        };
         let normals = buffer(device, "normals", &vec![0u8; n * 16], U::STORAGE | U::VERTEX);
-        let flat: Vec<u32> = scene.triangles.iter().flatten().copied().collect();
+        let flat: Vec<u32> = triangles.iter().flatten().copied().collect();
         let index = buffer(device, "triangles", bytemuck::cast_slice(&flat), U::INDEX | U::STORAGE);
-        let inc = Incidence::new(n, &scene.triangles);
+        let inc = Incidence::new(n, triangles);
         let offsets = buffer(device, "vertex offsets", bytemuck::cast_slice(&inc.offsets), U::STORAGE);
         let tris = buffer(device, "vertex triangles", bytemuck::cast_slice(&inc.elements), U::STORAGE);
         let normals_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -122,6 +130,7 @@ impl SceneView {
             ground,
             normals_group,
             n_vertices: n as u32,
+            embedder,
             camera,
             show_surface: true,
         }
@@ -135,6 +144,9 @@ impl SceneView {
 
     /// Records the normals pass and the draw of the scene into `views`.
     pub fn encode(&self, r: &Renderer, encoder: &mut wgpu::CommandEncoder, views: FrameViews<'_>) {
+        if let Some(e) = &self.embedder {
+            e.encode(encoder);
+        }
         if self.show_surface && self.surface.count > 0 {
             let mut pass = encoder
                 .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("normals"), timestamp_writes: None });

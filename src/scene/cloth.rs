@@ -88,6 +88,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         bends,
         tets: None,
         membranes,
+        embedding: None,
         ground: (!free).then_some(Ground { height: 0.0, friction: 0.5 }),
         spheres,
         gravity: if o.gravity && !free { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },

@@ -1,9 +1,11 @@
 //! Scenes: particles, constraint families, colliders and gravity, built from a name and options.
 
+mod bunny;
 mod cloth;
 mod family;
 mod solid;
 
+pub use bunny::{Body, DEFAULT_LATTICE, HEIGHT as BUNNY_HEIGHT, PAPER_FACES, bunny_surface};
 pub use family::Family;
 
 /// Number of constraint families a scene may have.
@@ -39,6 +41,7 @@ use glam::Vec3;
 
 use crate::constraints::{Bend, Membrane, Orthotropic, Spring, SpringMaterial, Tet};
 use crate::error::{Error, Result};
+use crate::mesh::{Binding, embedded_positions};
 
 /// A horizontal ground plane `y = height` with Coulomb friction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,6 +88,8 @@ pub struct Scene {
     pub tets: Option<Family<Tet, 4>>,
     /// Anisotropic membrane triangles, if the cloth uses the continuum model.
     pub membranes: Option<Family<Membrane, 3>>,
+    /// A surface drawn (and exported) instead of `triangles`, moving with the particles.
+    pub embedding: Option<Embedding>,
     /// Ground plane, if any.
     pub ground: Option<Ground>,
     /// Sphere colliders.
@@ -93,6 +98,23 @@ pub struct Scene {
     pub gravity: Vec3,
     /// Distance kept between particles and colliders (m).
     pub contact_offset: f32,
+}
+
+/// A surface embedded in a tetrahedral mesh: each vertex follows a tetrahedron by barycentric
+/// weights, so the smooth original surface is drawn while the coarser tetrahedra are simulated.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Embedding {
+    /// One binding per surface vertex.
+    pub bindings: Vec<Binding>,
+    /// The surface's triangles, indexing its vertices.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Embedding {
+    /// The surface's vertex positions for particle positions `x` (m).
+    pub fn positions(&self, x: &[Vec3]) -> Vec<Vec3> {
+        embedded_positions(&self.bindings, x)
+    }
 }
 
 /// What a user may choose about a scene.
@@ -118,6 +140,10 @@ pub struct SceneOptions {
     pub membrane: Option<Orthotropic>,
     /// Volumetric scenes: how the body is split into tetrahedra.
     pub tets: TetMode,
+    /// Bunny scenes: how the surface becomes a body (`None`: the scene's own).
+    pub body: Option<Body>,
+    /// `volume` bodies: lattice cells along the longest side (`None`: [`DEFAULT_LATTICE`]).
+    pub lattice: Option<u32>,
 }
 
 /// How a volumetric scene's body is split into tetrahedra.
@@ -155,20 +181,54 @@ impl Default for SceneOptions {
             poisson: 0.3,
             membrane: None,
             tets: TetMode::Volume,
+            body: None,
+            lattice: None,
         }
     }
 }
 
 /// Names of the scenes [`build`] knows.
-pub const SCENES: [&str; 6] = ["cloth", "cloth-paper", "cloth-sphere", "cloth-free", "beam", "cube"];
+pub const SCENES: [&str; 8] =
+    ["cloth", "cloth-paper", "cloth-sphere", "cloth-free", "beam", "cube", "bunny", "bunny-paper"];
+
+/// Constraint iterations a scene is meant to run with: the paper's 15 for `bunny-paper`, 30
+/// otherwise.
+pub fn default_iterations(name: &str) -> u32 {
+    if name == "bunny-paper" { 15 } else { 30 }
+}
+
+/// Whether scene `name` with `body` simulates tetrahedra (and so takes a 3D material).
+pub fn uses_tets(name: &str, body: Option<Body>) -> bool {
+    match name {
+        "beam" | "cube" => true,
+        "bunny" => body != Some(Body::Springs),
+        "bunny-paper" => matches!(body, Some(Body::CentroidTets | Body::Volume)),
+        _ => false,
+    }
+}
 
 /// Builds the scene called `name`.
 pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
+    build_from(name, opts, None)
+}
+
+/// Builds a bunny scene (`bunny` or `bunny-paper`) on another closed surface, such as one read
+/// with [`crate::mesh::load_obj`] (scaled to the bunny's height; `springs` bodies accept open
+/// surfaces).
+pub fn build_with_surface(name: &str, opts: &SceneOptions, surface: crate::mesh::TriMesh) -> Result<Scene> {
+    if !matches!(name, "bunny" | "bunny-paper") {
+        return Err(Error::param("--mesh", name, "replaces the surface of the scenes bunny and bunny-paper only"));
+    }
+    build_from(name, opts, Some(surface))
+}
+
+fn build_from(name: &str, opts: &SceneOptions, surface: Option<crate::mesh::TriMesh>) -> Result<Scene> {
     validate(opts)?;
     #[derive(Clone, Copy)]
     enum K {
         Cloth(cloth::Kind),
         Solid(solid::Kind),
+        Bunny(bunny::Kind),
     }
     let kind = Error::lookup(
         "scene",
@@ -180,12 +240,29 @@ pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
             ("cloth-free", K::Cloth(cloth::Kind::Free)),
             ("beam", K::Solid(solid::Kind::Beam)),
             ("cube", K::Solid(solid::Kind::Cube)),
+            ("bunny", K::Bunny(bunny::Kind::Drop)),
+            ("bunny-paper", K::Bunny(bunny::Kind::Paper)),
         ],
     )?;
+    if !matches!(kind, K::Bunny(_)) && opts.body.is_some() {
+        return Err(Error::param("--body", name, "applies to the scenes bunny and bunny-paper"));
+    }
+    if matches!(kind, K::Bunny(_)) && opts.membrane.is_some() {
+        return Err(Error::param("--material", "aniso-cloth", "is a cloth model; the bunny takes springs or tets"));
+    }
+    if matches!(kind, K::Bunny(_)) && !uses_tets(name, opts.body) && opts.solid.is_some() {
+        return Err(Error::param(
+            "--material",
+            opts.solid.map_or("", |m| m.name()),
+            "is a 3D model for tetrahedra; the springs body takes hookean or stvk-spring",
+        ));
+    }
     match kind {
-        K::Cloth(_) if opts.tets != TetMode::Volume => {
-            Err(Error::param("--tets", "centroid", "applies to the volumetric scenes beam and cube"))
-        }
+        K::Cloth(_) | K::Bunny(_) if opts.tets != TetMode::Volume => Err(Error::param(
+            "--tets",
+            "centroid",
+            "applies to the volumetric scenes beam and cube (the bunny takes --body centroid-tets)",
+        )),
         K::Cloth(k) => {
             if let Some(m) = opts.solid {
                 return Err(Error::param(
@@ -202,6 +279,7 @@ pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
             "is a cloth model; beam and cube take linear, stvk, neo-hookean, mooney-rivlin or arruda-boyce",
         )),
         K::Solid(k) => solid::build(k, opts),
+        K::Bunny(k) => bunny::build(k, opts, surface),
     }
 }
 
@@ -226,6 +304,15 @@ impl Scene {
     /// Number of particles.
     pub fn num_particles(&self) -> usize {
         self.positions.len()
+    }
+
+    /// The surface as drawn and exported at particle positions `x`: the embedded surface where
+    /// there is one, else the particles with [`Scene::triangles`].
+    pub fn surface(&self, x: &[Vec3]) -> (Vec<Vec3>, &[[u32; 3]]) {
+        match &self.embedding {
+            Some(e) => (e.positions(x), &e.triangles),
+            None => (x.to_vec(), &self.triangles),
+        }
     }
 
     /// Number of constraints over all families.

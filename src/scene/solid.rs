@@ -1,8 +1,9 @@
-//! Volumetric scenes: a cantilever beam and a cube, tetrahedralized boxes of 1000 kg/m³.
+//! Volumetric scenes: a cantilever beam and a cube, tetrahedralized boxes of 1000 kg/m³; and the
+//! scene of any tetrahedral mesh (the bunny's bodies use it too).
 
 use glam::Vec3;
 
-use super::{Family, Ground, Scene, SceneOptions, TetMode};
+use super::{Embedding, Family, Ground, Scene, SceneOptions, TetMode};
 use crate::constraints::{Tet, TetParams};
 use crate::error::{Error, Result};
 use crate::material::{Elastic, Model};
@@ -17,11 +18,10 @@ pub(super) enum Kind {
     Cube,
 }
 
-const DENSITY: f32 = 1000.0;
+/// Density of every solid (kg/m³).
+pub(super) const DENSITY: f32 = 1000.0;
 
 pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
-    let model = o.solid.unwrap_or(Model::NeoHookean);
-    let elastic = Elastic::new(model, o.young, o.poisson)?;
     let (mesh, name) = match kind {
         Kind::Beam => {
             let n = o.resolution.unwrap_or(10);
@@ -37,13 +37,26 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         TetMode::Volume => mesh,
         TetMode::Centroid => TetMesh::centroid_fan(&mesh.positions, &mesh.boundary())?,
     };
+    let pinned = |p: Vec3| kind == Kind::Beam && p.x <= -0.5 + 1e-6;
+    tet_scene(name, mesh, o, &pinned, None)
+}
+
+/// The scene of tetrahedral `mesh` with the options' 3D model, particles where `pinned` holds
+/// fixed, a ground at y = 0, drawn by its boundary or by `embedding`.
+pub(super) fn tet_scene(
+    name: &str,
+    mesh: TetMesh,
+    o: &SceneOptions,
+    pinned: &dyn Fn(Vec3) -> bool,
+    embedding: Option<Embedding>,
+) -> Result<Scene> {
+    let model = o.solid.unwrap_or(Model::NeoHookean);
+    let elastic = Elastic::new(model, o.young, o.poisson)?;
     let np = mesh.positions.len();
     let mut inv_mass: Vec<f32> = mesh.lumped_masses(DENSITY).iter().map(|m| 1.0 / m).collect();
-    if kind == Kind::Beam {
-        for (w, p) in inv_mass.iter_mut().zip(&mesh.positions) {
-            if p.x <= -0.5 + 1e-6 {
-                *w = 0.0;
-            }
+    for (w, p) in inv_mass.iter_mut().zip(&mesh.positions) {
+        if pinned(*p) {
+            *w = 0.0;
         }
     }
     let tets = mesh
@@ -71,6 +84,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         bends: None,
         tets: Some(Family::new(TetParams { elastic, scale: o.young }, tets, np)),
         membranes: None,
+        embedding,
         ground: Some(Ground { height: 0.0, friction: 0.5 }),
         spheres: Vec::new(),
         gravity: if o.gravity { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },

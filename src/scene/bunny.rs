@@ -1,0 +1,162 @@
+//! The bunny scenes, and any closed surface turned into a body: a spring network on its edges,
+//! the paper's centroid tetrahedra, or a volumetric lattice with the surface embedded.
+
+use glam::Vec3;
+
+use super::solid::{DENSITY, tet_scene};
+use super::{Embedding, Family, Ground, Scene, SceneOptions};
+use crate::constraints::{Bend, BendParams, Spring, SpringParams};
+use crate::error::{Error, Result};
+use crate::mesh::{EmbeddedTets, TetMesh, TriMesh, dihedral_pairs, parse_obj, unique_edges};
+
+/// How a closed surface becomes a simulated body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Body {
+    /// Springs on the surface edges (with dihedral bending unless `--bending-stiffness 0`);
+    /// open surfaces are allowed.
+    Springs,
+    /// The paper's tetrahedra: each surface triangle with the centroid.
+    CentroidTets,
+    /// A volumetric lattice of tetrahedra with the surface embedded in it.
+    Volume,
+}
+
+impl Body {
+    /// Names accepted on the command line.
+    pub const NAMES: [&'static str; 3] = ["springs", "centroid-tets", "volume"];
+}
+
+impl std::str::FromStr for Body {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Error::lookup(
+            "body",
+            s,
+            &[("springs", Body::Springs), ("centroid-tets", Body::CentroidTets), ("volume", Body::Volume)],
+        )
+    }
+}
+
+/// Which bunny.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Kind {
+    /// `bunny`: a volumetric Neo-Hookean bunny dropped onto the ground.
+    Drop,
+    /// `bunny-paper`: the paper's setting, the surface refined to 8192 faces, a spring network by
+    /// default, hanging by its ears.
+    Paper,
+}
+
+/// The Stanford bunny of `assets/bunny.obj` (public domain; see `assets/README.md`).
+const BUNNY_OBJ: &[u8] = include_bytes!("../../assets/bunny.obj");
+
+/// Height the surface is scaled to (m).
+pub const HEIGHT: f32 = 0.3;
+
+/// Faces of the paper's bunny (4098 vertices, 12288 edges).
+pub const PAPER_FACES: usize = 8192;
+
+/// Lattice cells along the longest side by default.
+pub const DEFAULT_LATTICE: u32 = 16;
+
+/// Default dihedral bending of the spring body (N·m/rad).
+const DEFAULT_BENDING: f32 = 1.0e-3;
+
+/// The bunny, scaled to [`HEIGHT`], its base centred at the origin on y = 0.
+pub fn bunny_surface() -> Result<TriMesh> {
+    Ok(normalized(parse_obj(BUNNY_OBJ)?))
+}
+
+/// `surface` scaled uniformly to [`HEIGHT`] tall and moved so its base is centred on the origin.
+fn normalized(mut surface: TriMesh) -> TriMesh {
+    let (lo, hi) = surface.positions.iter().fold((Vec3::MAX, Vec3::MIN), |(a, b), &p| (a.min(p), b.max(p)));
+    let scale = HEIGHT / (hi.y - lo.y).max(1e-12);
+    let base = Vec3::new(0.5 * (lo.x + hi.x), lo.y, 0.5 * (lo.z + hi.z));
+    for p in &mut surface.positions {
+        *p = (*p - base) * scale;
+    }
+    surface
+}
+
+/// Builds a bunny scene from the bunny or from `surface` (a user's mesh).
+pub(super) fn build(kind: Kind, o: &SceneOptions, surface: Option<TriMesh>) -> Result<Scene> {
+    let surface = match surface {
+        Some(s) => {
+            s.validate()?;
+            normalized(s)
+        }
+        None => bunny_surface()?,
+    };
+    let (name, body, lift) = match kind {
+        Kind::Drop => ("bunny", o.body.unwrap_or(Body::Volume), 0.15),
+        Kind::Paper => ("bunny-paper", o.body.unwrap_or(Body::Springs), 0.25),
+    };
+    let mut surface = match kind {
+        Kind::Paper => surface.refine_to_faces(PAPER_FACES),
+        Kind::Drop => surface,
+    };
+    for p in &mut surface.positions {
+        p.y += lift;
+    }
+    // The paper's bunny hangs by the tips of its ears (the top 4% of its height).
+    let top = surface.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    let hanging = kind == Kind::Paper;
+    let pinned = move |p: Vec3| hanging && p.y >= top - 0.04 * HEIGHT;
+    if body != Body::Springs {
+        surface.validate_closed()?;
+    }
+    match body {
+        Body::Springs => springs(name, &surface, o, &pinned),
+        Body::CentroidTets => {
+            tet_scene(name, TetMesh::centroid_fan(&surface.positions, &surface.triangles)?, o, &pinned, None)
+        }
+        Body::Volume => {
+            let e = EmbeddedTets::from_surface(&surface, o.lattice.unwrap_or(DEFAULT_LATTICE))?;
+            let embedding = Embedding { bindings: e.bindings, triangles: surface.triangles };
+            tet_scene(name, e.mesh, o, &pinned, Some(embedding))
+        }
+    }
+}
+
+/// A spring network on the surface's edges (stiffness `--stiffness`, the spring material of the
+/// options), dihedral bending on its interior edges, the mass of the enclosed volume at 1000 kg/m³
+/// (or 1 kg for an open surface) lumped by area.
+fn springs(name: &str, surface: &TriMesh, o: &SceneOptions, pinned: &dyn Fn(Vec3) -> bool) -> Result<Scene> {
+    let np = surface.positions.len();
+    let volume = surface.enclosed_volume();
+    let mass = if surface.validate_closed().is_ok() && volume > 0.0 { DENSITY * volume as f32 } else { 1.0 };
+    let mut inv_mass: Vec<f32> = surface.lumped_masses(mass).iter().map(|m| 1.0 / m).collect();
+    for (w, p) in inv_mass.iter_mut().zip(&surface.positions) {
+        if pinned(*p) {
+            *w = 0.0;
+        }
+    }
+    let edges = unique_edges(&surface.triangles);
+    let edge_rest: Vec<f32> =
+        edges.iter().map(|&[a, b]| surface.positions[a as usize].distance(surface.positions[b as usize])).collect();
+    let springs =
+        edges.iter().zip(&edge_rest).map(|(&[a, b], &l)| Spring::new(a, b, l, o.stiffness, o.material)).collect();
+    let kb = o.bending_stiffness.unwrap_or(DEFAULT_BENDING);
+    let bends = (kb > 0.0).then(|| {
+        let b =
+            dihedral_pairs(&surface.triangles).into_iter().map(|p| Bend::at_rest(p, &surface.positions, kb)).collect();
+        Family::new(BendParams, b, np)
+    });
+    Ok(Scene {
+        name: name.into(),
+        positions: surface.positions.clone(),
+        inv_mass,
+        triangles: surface.triangles.clone(),
+        edges,
+        edge_rest,
+        springs: Some(Family::new(SpringParams { material: o.material }, springs, np)),
+        bends,
+        tets: None,
+        membranes: None,
+        embedding: None,
+        ground: Some(Ground { height: 0.0, friction: 0.5 }),
+        spheres: Vec::new(),
+        gravity: if o.gravity { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },
+        contact_offset: 0.002,
+    })
+}
