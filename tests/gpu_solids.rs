@@ -152,3 +152,32 @@ fn centroid_tetrahedra_match_the_cpu() {
     assert!(d < TOLERANCE, "GPU and CPU differ by {d:.3e} m in the fall");
     assert!(ratio < 1.0, "GPU and CPU differ by {d_all:.3e} m through the impact");
 }
+
+#[test]
+fn the_volumetric_bunny_and_its_embedded_surface_match_the_cpu() {
+    // 60 frames of the dropped bunny (default lattice, 4998 tetrahedra), then the GPU's embed
+    // pass against the CPU's barycentric placement on the same particle positions.
+    let (ctx, kernels) = context();
+    let sc = scene::build("bunny", &SceneOptions::default()).unwrap();
+    let embedding = sc.embedding.clone().unwrap();
+    let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
+    let (d, ratio, moved) = compare(&ctx, &kernels, sc.clone(), &s, 60);
+    println!("bunny: max distance {d:.3e} m, ratio {ratio:.3} (moved {moved:.3} m)");
+    assert!(moved > 0.1, "the bunny barely moved");
+    assert!(ratio < 1.0, "GPU and CPU differ by {d:.3e} m");
+
+    let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
+    for _ in 0..20 {
+        gpu.step_frame(&s);
+    }
+    let embedder = eapbd::render::Embedder::new(&ctx.device, &embedding, &gpu.x);
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    embedder.encode(&mut encoder);
+    ctx.queue.submit([encoder.finish()]);
+    let on_gpu: Vec<glam::Vec4> = eapbd::gpu::read_buffer(&ctx.device, &ctx.queue, &embedder.positions).unwrap();
+    let on_cpu = embedding.positions(&gpu.read_positions().unwrap());
+    let worst = on_cpu.iter().zip(&on_gpu).map(|(a, b)| a.distance(b.truncate())).fold(0.0, f32::max);
+    println!("embedded surface: GPU and CPU placement differ by {worst:.3e} m");
+    assert_eq!(on_gpu.len(), on_cpu.len());
+    assert!(worst < 1e-6, "embedded vertices differ by {worst:.3e} m");
+}

@@ -1,5 +1,5 @@
-//! Screenshot tests: `cloth-paper` after 60 frames, drawn headless on the GPU, against a stored
-//! image. Regenerate the reference on purpose with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release
+//! Screenshot tests: `cloth-paper` and `bunny` after 60 frames, drawn headless on the GPU,
+//! against stored images. Regenerate the reference on purpose with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release
 //! --test screenshot`. Needs a GPU adapter (Mesa lavapipe in CI).
 
 use std::path::PathBuf;
@@ -35,15 +35,15 @@ fn coverage(img: &image::RgbaImage, background: &image::RgbaImage) -> f64 {
     changed as f64 / (img.width() * img.height()) as f64
 }
 
-/// The scene drawn after `frames` frames, and the same view without the cloth.
-fn render(backend: Backend, frames: u32) -> (image::RgbaImage, image::RgbaImage) {
+/// `name` drawn after `frames` frames, and the same view without the simulated surface.
+fn render_scene(name: &str, backend: Backend, frames: u32, s: &Settings) -> (image::RgbaImage, image::RgbaImage) {
     let ctx = GpuContext::new().unwrap_or_else(|e| panic!("screenshot tests need a GPU adapter: {e}"));
     let kernels = Arc::new(Kernels::new(&ctx.device));
-    let sc = scene::build("cloth-paper", &SceneOptions::default()).unwrap();
+    let sc = scene::build(name, &SceneOptions::default()).unwrap();
     let mut sim = Simulation::new(backend, sc, Some((&ctx, &kernels))).unwrap();
     let mut snap = Snapshotter::new(&ctx, &sim, WIDTH, HEIGHT).unwrap();
     for _ in 0..frames {
-        sim.step_frame(&Settings::default());
+        sim.step_frame(s);
     }
     let img = snap.capture(&ctx, &sim).unwrap();
     snap.view.show_surface = false;
@@ -51,25 +51,44 @@ fn render(backend: Backend, frames: u32) -> (image::RgbaImage, image::RgbaImage)
     (img, background)
 }
 
-#[test]
-fn cloth_paper_matches_the_stored_image() {
-    let (img, background) = render(Backend::Gpu, 60);
-    let path = golden("cloth_paper_60.png");
+fn render(backend: Backend, frames: u32) -> (image::RgbaImage, image::RgbaImage) {
+    render_scene("cloth-paper", backend, frames, &Settings::default())
+}
+
+/// Compares `img` with the stored `file` (or stores it when `EAPBD_UPDATE_SNAPSHOTS` is set).
+fn check_golden(img: &image::RgbaImage, file: &str) {
+    let path = golden(file);
     if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        save_png(&img, &path).unwrap();
+        save_png(img, &path).unwrap();
         eprintln!("updated {}", path.display());
     }
     let reference = image::open(&path)
         .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", path.display()))
         .to_rgba8();
     assert_eq!(reference.dimensions(), img.dimensions());
-    let diff = mean_abs_diff(&img, &reference);
+    let diff = mean_abs_diff(img, &reference);
     if diff >= MEAN_TOLERANCE {
-        let out = std::env::temp_dir().join("cloth_paper_60_actual.png");
-        save_png(&img, &out).unwrap();
-        panic!("mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}", out.display());
+        let out = std::env::temp_dir().join(file.replace(".png", "_actual.png"));
+        save_png(img, &out).unwrap();
+        panic!("{file}: mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}", out.display());
     }
+}
+
+#[test]
+fn bunny_matches_the_stored_image() {
+    // The volumetric bunny's embedded surface after it has landed.
+    let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
+    let (img, background) = render_scene("bunny", Backend::Gpu, 60, &s);
+    check_golden(&img, "bunny_60.png");
+    let fraction = coverage(&img, &background);
+    assert!((0.03..0.6).contains(&fraction), "the bunny covers {:.1}% of the image", 100.0 * fraction);
+}
+
+#[test]
+fn cloth_paper_matches_the_stored_image() {
+    let (img, background) = render(Backend::Gpu, 60);
+    check_golden(&img, "cloth_paper_60.png");
 
     // Not blank: the cloth covers a sensible part of the picture and differs from what is
     // behind it.

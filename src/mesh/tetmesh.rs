@@ -18,7 +18,8 @@ pub struct TetMesh {
 
 impl TetMesh {
     /// A box of `cells` cells per axis spanning `min..max`, each cell split into six tetrahedra
-    /// around its main diagonal (the Freudenthal split, conforming across cells).
+    /// around its main diagonal (the Freudenthal split, conforming across cells), each ordered
+    /// for a positive volume.
     pub fn box_grid(cells: [u32; 3], min: Vec3, max: Vec3) -> Self {
         let [nx, ny, nz] = cells.map(|c| c.max(1));
         let idx = |i: u32, j: u32, k: u32| i + (nx + 1) * (j + (ny + 1) * k);
@@ -45,6 +46,10 @@ impl TetMesh {
                                 c[d] += axes[axis][d];
                             }
                             t[s + 1] = idx(c[0], c[1], c[2]);
+                        }
+                        // Odd permutations give mirrored tetrahedra: swap two corners.
+                        if matches!(p, [0, 2, 1] | [1, 0, 2] | [2, 1, 0]) {
+                            t.swap(2, 3);
                         }
                         tets.push(t);
                     }

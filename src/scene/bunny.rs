@@ -112,8 +112,18 @@ pub(super) fn build(kind: Kind, o: &SceneOptions, surface: Option<TriMesh>) -> R
         }
         Body::Volume => {
             let e = EmbeddedTets::from_surface(&surface, o.lattice.unwrap_or(DEFAULT_LATTICE))?;
+            // Contacts act on the particles: keep them as far from the ground as the surface
+            // hangs below its tetrahedra's lowest particle, so the drawn surface touches it.
+            let below = e
+                .bindings
+                .iter()
+                .zip(&surface.positions)
+                .map(|(b, p)| b.p.iter().map(|&i| e.mesh.positions[i as usize].y).fold(f32::MAX, f32::min) - p.y)
+                .fold(0.0f32, f32::max);
             let embedding = Embedding { bindings: e.bindings, triangles: surface.triangles };
-            tet_scene(name, e.mesh, o, &pinned, Some(embedding))
+            let mut scene = tet_scene(name, e.mesh, o, &pinned, Some(embedding))?;
+            scene.contact_offset = scene.contact_offset.max(below);
+            Ok(scene)
         }
     }
 }
