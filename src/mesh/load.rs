@@ -21,12 +21,7 @@ pub fn load_obj(path: &Path) -> Result<TriMesh> {
 
 /// Parses OBJ text (see [`load_obj`]).
 pub fn parse_obj(bytes: &[u8]) -> Result<TriMesh> {
-    let options = tobj::LoadOptions {
-        triangulate: true,
-        single_index: false,
-        ignore_points: true,
-        ignore_lines: true,
-    };
+    let options = tobj::LoadOptions { triangulate: true, single_index: false, ignore_points: true, ignore_lines: true };
     let mut reader = std::io::BufReader::new(bytes);
     let (models, _) = tobj::load_obj_buf(&mut reader, &options, |_| Err(tobj::LoadError::GenericFailure))
         .map_err(|e| Error::InvalidMesh(format!("not a readable OBJ file: {e}")))?;

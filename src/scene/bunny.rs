@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::solid::{DENSITY, tet_scene};
+use super::solid::tet_scene;
 use super::{Embedding, Family, Ground, Scene, SceneOptions};
 use crate::constraints::{Bend, BendParams, Spring, SpringParams};
 use crate::error::{Error, Result};
@@ -58,6 +58,9 @@ pub const PAPER_FACES: usize = 8192;
 
 /// Lattice cells along the longest side by default.
 pub const DEFAULT_LATTICE: u32 = 16;
+
+/// Area density of the spring body's shell (kg/m², as the cloth's).
+pub const SHELL_DENSITY: f32 = 1.0;
 
 /// Default dihedral bending of the spring body (N·m/rad).
 const DEFAULT_BENDING: f32 = 1.0e-3;
@@ -129,12 +132,12 @@ pub(super) fn build(kind: Kind, o: &SceneOptions, surface: Option<TriMesh>) -> R
 }
 
 /// A spring network on the surface's edges (stiffness `--stiffness`, the spring material of the
-/// options), dihedral bending on its interior edges, the mass of the enclosed volume at 1000 kg/m³
-/// (or 1 kg for an open surface) lumped by area.
+/// options) and dihedral bending on its interior edges: a hollow shell of [`SHELL_DENSITY`], its
+/// mass lumped by area.
 fn springs(name: &str, surface: &TriMesh, o: &SceneOptions, pinned: &dyn Fn(Vec3) -> bool) -> Result<Scene> {
     let np = surface.positions.len();
-    let volume = surface.enclosed_volume();
-    let mass = if surface.validate_closed().is_ok() && volume > 0.0 { DENSITY * volume as f32 } else { 1.0 };
+    let area: f32 = (0..surface.triangles.len()).map(|t| surface.area(t)).sum();
+    let mass = SHELL_DENSITY * area;
     let mut inv_mass: Vec<f32> = surface.lumped_masses(mass).iter().map(|m| 1.0 / m).collect();
     for (w, p) in inv_mass.iter_mut().zip(&surface.positions) {
         if pinned(*p) {
