@@ -2,13 +2,21 @@
 
 mod cli;
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 fn main() -> anyhow::Result<()> {
-    let args = cli::Cli::parse();
+    let matches = cli::Cli::command().get_matches_from(cli::scene_file::expand(std::env::args_os())?);
+    let args = cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    let sub = matches.subcommand().map(|(_, m)| m);
     match args.command {
-        cli::Command::Simulate(a) => cli::simulate::run(&a),
-        cli::Command::Render(a) => cli::render::run(&a),
+        cli::Command::Simulate(a) => {
+            sub.map(|m| a.scene.save(m)).transpose()?;
+            cli::simulate::run(&a)
+        }
+        cli::Command::Render(a) => {
+            sub.map(|m| a.scene.save(m)).transpose()?;
+            cli::render::run(&a)
+        }
         cli::Command::Report(a) => cli::report::run(&a),
         cli::Command::Bench(a) => cli::bench::run(&a),
     }

@@ -3,6 +3,7 @@
 pub mod bench;
 pub mod render;
 pub mod report;
+pub mod scene_file;
 pub mod simulate;
 
 use std::str::FromStr;
@@ -15,7 +16,7 @@ use eapbd::solver::{EnergyAware, Method, Settings};
 
 /// Energy-aware position-based dynamics for elastic models.
 #[derive(Parser, Debug)]
-#[command(name = "eapbd", version, about)]
+#[command(name = "eapbd", version, about, args_override_self = true)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
@@ -76,7 +77,7 @@ pub struct SceneArgs {
     #[arg(long, default_value = "cloth-paper")]
     pub scene: String,
     /// bunny, bunny-paper: simulate this OBJ surface instead of the bunny (scaled to 0.3 m tall;
-    /// closed for tetrahedral bodies).
+    /// closed for tetrahedral bodies), or a TetGen mesh given as PATH.node or PATH.ele.
     #[arg(long)]
     pub mesh: Option<std::path::PathBuf>,
     /// bunny, bunny-paper: springs (surface spring network), centroid-tets (the paper's surface
@@ -157,6 +158,13 @@ pub struct SceneArgs {
     /// Switch gravity off.
     #[arg(long)]
     pub no_gravity: bool,
+    /// Read scene and solver flags from this TOML file (flags on the command line override it;
+    /// examples in assets/scenes/).
+    #[arg(long)]
+    pub scene_file: Option<std::path::PathBuf>,
+    /// Write the scene and solver flags of this run to this TOML file, for --scene-file.
+    #[arg(long)]
+    pub save_scene: Option<std::path::PathBuf>,
 }
 
 impl SceneArgs {
@@ -205,10 +213,30 @@ impl SceneArgs {
         })
     }
 
+    /// Writes `--save-scene` if given: the scene flags among `matches` (the subcommand's).
+    pub fn save(&self, matches: &clap::ArgMatches) -> anyhow::Result<()> {
+        let Some(path) = &self.save_scene else { return Ok(()) };
+        use clap::Args as _;
+        let cmd = SceneArgs::augment_args(clap::Command::new("scene"));
+        let scene_ids: Vec<String> = cmd.get_arguments().map(|a| a.get_id().to_string()).collect();
+        let skip: Vec<&str> = matches
+            .ids()
+            .map(|id| id.as_str())
+            .filter(|id| !scene_ids.iter().any(|s| s == id) || matches!(*id, "save_scene" | "scene_file"))
+            .collect();
+        scene_file::write(path, matches, &skip)?;
+        println!("wrote {}", path.display());
+        Ok(())
+    }
+
     /// The scene these arguments select (reading `--mesh` if given).
     pub fn build_scene(&self) -> eapbd::Result<eapbd::scene::Scene> {
         let opts = self.scene_options()?;
+        let tetgen = |p: &std::path::Path| p.extension().is_some_and(|e| e == "node" || e == "ele");
         match &self.mesh {
+            Some(path) if tetgen(path) => {
+                eapbd::scene::build_with_tets(&self.scene, &opts, eapbd::mesh::load_tetgen(path)?)
+            }
             Some(path) => eapbd::scene::build_with_surface(&self.scene, &opts, eapbd::mesh::load_obj(path)?),
             None => eapbd::scene::build(&self.scene, &opts),
         }

@@ -5,6 +5,7 @@ mod lattice;
 mod load;
 mod obj;
 mod refine;
+mod tetgen;
 mod tetmesh;
 mod topology;
 
@@ -12,6 +13,7 @@ pub use grid::grid;
 pub use lattice::{Binding, EmbeddedTets, embedded_positions, winding_number};
 pub use load::{load_obj, parse_obj};
 pub use obj::write_obj;
+pub use tetgen::{load_tetgen, parse_tetgen};
 pub use tetmesh::TetMesh;
 pub use topology::{closed_surface_problem, dihedral_pairs, unique_edges};
 

@@ -131,6 +131,24 @@ pub(super) fn build(kind: Kind, o: &SceneOptions, surface: Option<TriMesh>) -> R
     }
 }
 
+/// Builds a bunny scene from a tetrahedral mesh, scaled and placed as a surface would be.
+pub(super) fn build_tets(kind: Kind, o: &SceneOptions, mut tets: TetMesh) -> Result<Scene> {
+    if let Some(i) = tets.positions.iter().position(|p| !p.is_finite()) {
+        return Err(Error::InvalidMesh(format!("vertex {i} is not finite")));
+    }
+    let placed = normalized(TriMesh { positions: tets.positions, triangles: Vec::new() });
+    tets.positions = placed.positions;
+    let lift = if kind == Kind::Paper { 0.25 } else { 0.15 };
+    for p in &mut tets.positions {
+        p.y += lift;
+    }
+    let top = tets.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    let hanging = kind == Kind::Paper;
+    let pinned = move |p: Vec3| hanging && p.y >= top - 0.04 * HEIGHT;
+    let name = if kind == Kind::Paper { "bunny-paper" } else { "bunny" };
+    tet_scene(name, tets, o, &pinned, None)
+}
+
 /// A spring network on the surface's edges (stiffness `--stiffness`, the spring material of the
 /// options) and dihedral bending on its interior edges: a hollow shell of [`SHELL_DENSITY`], its
 /// mass lumped by area.

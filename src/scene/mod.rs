@@ -222,6 +222,18 @@ pub fn build_with_surface(name: &str, opts: &SceneOptions, surface: crate::mesh:
     build_from(name, opts, Some(surface))
 }
 
+/// Builds `bunny` or `bunny-paper` from a tetrahedral mesh (such as one read with
+/// [`crate::mesh::load_tetgen`]): scaled like a surface, simulated as it is and drawn by its
+/// boundary.
+pub fn build_with_tets(name: &str, opts: &SceneOptions, tets: crate::mesh::TetMesh) -> Result<Scene> {
+    if !matches!(name, "bunny" | "bunny-paper") {
+        return Err(Error::param("--mesh", name, "replaces the body of the scenes bunny and bunny-paper only"));
+    }
+    validate(opts)?;
+    let kind = if name == "bunny" { bunny::Kind::Drop } else { bunny::Kind::Paper };
+    bunny::build_tets(kind, opts, tets)
+}
+
 fn build_from(name: &str, opts: &SceneOptions, surface: Option<crate::mesh::TriMesh>) -> Result<Scene> {
     validate(opts)?;
     #[derive(Clone, Copy)]
