@@ -5,6 +5,7 @@ mod family;
 mod solid;
 
 pub use family::Family;
+pub use solid::DENSITY as SOLID_DENSITY;
 
 use glam::Vec3;
 

@@ -17,7 +17,8 @@ pub(super) enum Kind {
     Cube,
 }
 
-const DENSITY: f32 = 1000.0;
+/// Density of the volumetric bodies (kg/m³).
+pub const DENSITY: f32 = 1000.0;
 
 pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     let model = o.solid.unwrap_or(Model::NeoHookean);
