@@ -98,3 +98,39 @@ fn quick_energy_report_writes_its_files() {
     let img = image::open(dir.join("energy_cloth_dt60.png")).unwrap().to_rgb8();
     assert!(img.width() >= 800 && img.pixels().any(|p| p.0 != [255, 255, 255]));
 }
+
+#[test]
+fn quick_beam_report_writes_its_files() {
+    let dir = scratch("beam-report");
+    let out = eapbd(&["report", "beam", "--quick", "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    for f in ["beam.md", "beam.csv", "beam_static.csv", "beam.png"] {
+        let meta = std::fs::metadata(dir.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+        assert!(meta.len() > 100, "{f} is nearly empty");
+    }
+    let csv = std::fs::read_to_string(dir.join("beam.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap_or_else(|| panic!("no column {name}"));
+    let rows: Vec<Vec<&str>> = csv.lines().skip(1).map(|l| l.split(',').collect()).collect();
+    // 3 materials at the reference setting + 2 solver settings, all on the 5-cell beam.
+    assert_eq!(rows.len(), 5, "{csv}");
+    for row in &rows {
+        assert_eq!(row.len(), header.len(), "{csv}");
+        for name in ["tip_deflection_m", "euler_bernoulli_m", "ratio", "static_fe_m", "ratio_to_static", "wall_s"] {
+            let v: f64 = row[col(name)].parse().unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert!(v.is_finite(), "{name} = {v}");
+        }
+        // Euler–Bernoulli for the 1 m × 0.2 m × 0.2 m beam at E = 1e8 Pa: 3.68 mm.
+        let eb: f64 = row[col("euler_bernoulli_m")].parse().unwrap();
+        assert!((eb - 3.679e-3).abs() < 1e-5, "{eb}");
+    }
+    // The reference runs settle on the static answer of their mesh; the coarse mesh locks (≈ 0.25 δ_EB).
+    for row in rows.iter().filter(|r| r[col("sweep")] == "resolution") {
+        let to_static: f64 = row[col("ratio_to_static")].parse().unwrap();
+        let ratio: f64 = row[col("ratio")].parse().unwrap();
+        assert!((to_static - 1.0).abs() < 0.01 && row[col("settled")] == "true", "{row:?}");
+        assert!(ratio > 0.2 && ratio < 0.3, "{row:?}");
+    }
+    let md = std::fs::read_to_string(dir.join("beam.md")).unwrap();
+    assert!(md.contains("Euler–Bernoulli") && md.contains("| 5 × 1² |"), "{md}");
+}

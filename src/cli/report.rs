@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
-use eapbd::report::energy::{StudyOptions, run_study, write_outputs};
+use eapbd::report::{beam, energy};
 
 /// Arguments of `eapbd report`.
 #[derive(Args, Debug)]
@@ -19,6 +19,9 @@ pub enum Report {
     /// Total energy, drift, stretch, residual and cost of each energy-aware setting and SOR over
     /// iteration counts and time steps.
     Energy(EnergyArgs),
+    /// Static tip deflection of the cantilever (linear, StVK, Neo-Hookean) against Euler–Bernoulli,
+    /// over mesh resolution and solver settings, with the static finite-element answer of each mesh.
+    Beam(BeamArgs),
 }
 
 /// Arguments of `eapbd report energy`.
@@ -39,10 +42,22 @@ pub struct EnergyArgs {
     pub quick: bool,
 }
 
+/// Arguments of `eapbd report beam`.
+#[derive(Args, Debug)]
+pub struct BeamArgs {
+    /// Output directory.
+    #[arg(long, default_value = "docs/beam")]
+    pub out: PathBuf,
+    /// The 5-cell beam only (seconds) instead of the full study (15 to 20 minutes).
+    #[arg(long)]
+    pub quick: bool,
+}
+
 /// Runs the command.
 pub fn run(a: &ReportArgs) -> anyhow::Result<()> {
     match &a.report {
         Report::Energy(e) => energy(e),
+        Report::Beam(b) => beam(b),
     }
 }
 
@@ -55,9 +70,9 @@ fn energy(a: &EnergyArgs) -> anyhow::Result<()> {
     for (s, k) in &scenes {
         eapbd::scene::build(s, &eapbd::scene::SceneOptions { stiffness: *k, ..Default::default() })?;
     }
-    let opts = if a.quick { StudyOptions::quick(scenes) } else { StudyOptions::full(scenes) };
+    let opts = if a.quick { energy::StudyOptions::quick(scenes) } else { energy::StudyOptions::full(scenes) };
     let bar = indicatif::ProgressBar::new(opts.runs() as u64);
-    let results = run_study(&opts, |r| {
+    let results = energy::run_study(&opts, |r| {
         bar.suspend(|| {
             println!(
                 "{:12} dt 1/{:<3} {:3} it  {:8}  drift {:+7.1}%  stretch {:.4}  {:.2} ms/frame{}",
@@ -74,7 +89,49 @@ fn energy(a: &EnergyArgs) -> anyhow::Result<()> {
         bar.inc(1);
     })?;
     bar.finish_and_clear();
-    write_outputs(&a.out, &opts, &results)?;
+    energy::write_outputs(&a.out, &opts, &results)?;
     println!("wrote {}", a.out.join("energy.md").display());
+    Ok(())
+}
+
+fn beam(a: &BeamArgs) -> anyhow::Result<()> {
+    let opts = if a.quick { beam::StudyOptions::quick() } else { beam::StudyOptions::full() };
+    let bar = indicatif::ProgressBar::new(opts.steps() as u64);
+    let results = beam::run_study(&opts, |step| {
+        bar.suspend(|| match step {
+            beam::Step::Static(st) => println!(
+                "static {:12} n {:2}  {:5} tets  δ {:.4} mm = {:.3} δ_EB  ({} Newton, {} CG, {:.1} s)",
+                st.model.name(),
+                st.resolution,
+                st.tets,
+                st.deflection * 1e3,
+                st.ratio(),
+                st.newton_steps,
+                st.cg_iterations,
+                st.wall
+            ),
+            beam::Step::Run(r) => println!(
+                "xpbd   {:12} n {:2}  {:5} tets  {} {:3}×{:<3} β {:3.0}  δ {:.4} mm = {:.3} δ_EB = {:.4} static{}  \
+                 ({:.2} s simulated, {:.1} s)",
+                r.config.model.name(),
+                r.config.resolution,
+                r.tets,
+                r.config.precision.name(),
+                r.config.substeps,
+                r.config.iterations,
+                r.config.damping,
+                r.deflection * 1e3,
+                r.ratio(),
+                r.ratio_to_static(),
+                if r.settled { "" } else { "  NOT SETTLED" },
+                r.simulated,
+                r.wall
+            ),
+        });
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    beam::write_outputs(&a.out, &opts, &results)?;
+    println!("wrote {}", a.out.join("beam.md").display());
     Ok(())
 }

@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use super::plot::{Line, Panel, save_panels};
+use super::plot::{Legend, Line, Panel, save_panels};
 use crate::error::{Error, Result};
 use crate::metrics::FrameStats;
 use crate::scene::{self, SceneOptions};
@@ -294,8 +294,10 @@ pub fn write_outputs(dir: &Path, opts: &StudyOptions, results: &[RunResult]) -> 
                             label: r.variant.name().into(),
                             points: r.series.iter().map(|(t, s)| (*t, s.total())).collect(),
                             color: Variant::ALL.iter().position(|v| *v == r.variant).unwrap_or(0),
+                            markers: false,
                         })
                         .collect(),
+                    legend: Legend::LowerLeft,
                 })
                 .collect();
             let path = dir.join(format!("energy_{scene_name}_dt{}.png", fps(dt)));

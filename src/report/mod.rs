@@ -1,4 +1,13 @@
 //! Reports: studies run headless that write CSV, Markdown and PNG plots.
+//!
+//! - [`energy`]: energy-aware settings and SOR on the cloth scenes (`eapbd report energy`);
+//! - [`beam`]: the cantilever's tip deflection against Euler–Bernoulli (`eapbd report beam`),
+//!   with the closed-form references of [`cantilever`] and the static solver of [`equilibrium`];
+//! - [`plot`]: line plots written as PNG.
 
+pub mod beam;
+mod beam_output;
+pub mod cantilever;
 pub mod energy;
+pub mod equilibrium;
 pub mod plot;

@@ -16,6 +16,20 @@ pub struct Line {
     pub points: Vec<(f64, f64)>,
     /// Index into the palette.
     pub color: usize,
+    /// Draw a dot at every point (for curves of a few points).
+    pub markers: bool,
+}
+
+/// Where a chart's legend goes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Legend {
+    /// Lower left corner.
+    #[default]
+    LowerLeft,
+    /// Lower right corner.
+    LowerRight,
+    /// Upper right corner.
+    UpperRight,
 }
 
 /// One chart of a figure.
@@ -29,6 +43,8 @@ pub struct Panel {
     pub y_label: String,
     /// The curves.
     pub lines: Vec<Line>,
+    /// Legend position.
+    pub legend: Legend,
 }
 
 const PALETTE: [RGBColor; 6] = [
@@ -111,13 +127,21 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotters
             .map_err(plot_error)?
             .label(line.label.clone())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+        if line.markers {
+            let points = line.points.iter().copied().filter(|p| p.0.is_finite() && p.1.is_finite());
+            chart.draw_series(points.map(|p| Circle::new(p, 4, color.filled()))).map_err(plot_error)?;
+        }
     }
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
         .label_font(("sans-serif", 12))
-        .position(SeriesLabelPosition::LowerLeft)
+        .position(match panel.legend {
+            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+            Legend::LowerRight => SeriesLabelPosition::LowerRight,
+            Legend::UpperRight => SeriesLabelPosition::UpperRight,
+        })
         .draw()
         .map_err(plot_error)?;
     Ok(())

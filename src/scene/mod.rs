@@ -7,6 +7,7 @@ mod solid;
 
 pub use bunny::{Body, DEFAULT_LATTICE, HEIGHT as BUNNY_HEIGHT, PAPER_FACES, bunny_surface};
 pub use family::Family;
+pub use solid::DENSITY as SOLID_DENSITY;
 
 /// Number of constraint families a scene may have.
 pub const FAMILY_COUNT: usize = 4;

@@ -18,8 +18,8 @@ pub(super) enum Kind {
     Cube,
 }
 
-/// Density of every solid (kg/m³).
-pub(super) const DENSITY: f32 = 1000.0;
+/// Density of the volumetric bodies (kg/m³).
+pub const DENSITY: f32 = 1000.0;
 
 pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     let (mesh, name) = match kind {
