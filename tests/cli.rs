@@ -134,3 +134,76 @@ fn quick_beam_report_writes_its_files() {
     let md = std::fs::read_to_string(dir.join("beam.md")).unwrap();
     assert!(md.contains("Euler–Bernoulli") && md.contains("| 5 × 1² |"), "{md}");
 }
+
+#[test]
+fn scene_files_round_trip_and_command_line_flags_override_them() {
+    let saved = scratch("saved.toml");
+    let out = eapbd(&[
+        "simulate",
+        "--scene-file",
+        "assets/scenes/bunny-paper.toml",
+        "--iterations",
+        "3",
+        "--no-gravity",
+        "--frames",
+        "1",
+        "--print-every",
+        "0",
+        "--save-scene",
+        saved.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("scene bunny-paper: 4098 particles") && stdout.contains("3 iterations"), "{stdout}");
+    let text = std::fs::read_to_string(&saved).unwrap();
+    for line in ["scene = \"bunny-paper\"", "iterations = 3", "no-gravity = true", "body = \"springs\""] {
+        assert!(text.contains(line), "{line} missing from\n{text}");
+    }
+    assert!(!text.contains("frames"), "only scene and solver flags are saved:\n{text}");
+    let again = eapbd(&["simulate", "--scene-file", saved.to_str().unwrap(), "--frames", "1", "--print-every", "0"]);
+    let stdout = String::from_utf8_lossy(&again.stdout);
+    assert!(again.status.success() && stdout.contains("3 iterations"), "{stdout}");
+    // Every example parses and builds.
+    for entry in std::fs::read_dir("assets/scenes").unwrap() {
+        let path = entry.unwrap().path();
+        let out = eapbd(&["simulate", "--scene-file", path.to_str().unwrap(), "--frames", "1", "--print-every", "0"]);
+        assert!(out.status.success(), "{}: {}", path.display(), String::from_utf8_lossy(&out.stderr));
+    }
+    // A broken file is named.
+    let bad = scratch("bad.toml");
+    std::fs::write(&bad, "scene = [1, 2]\n").unwrap();
+    let out = eapbd(&["simulate", "--scene-file", bad.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bad.toml"));
+}
+
+#[test]
+fn meshes_from_files_replace_the_bunny() {
+    // An OBJ cube as the bunny's surface, a TetGen tetrahedron as its body, and the errors.
+    let obj = scratch("cube.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
+         f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n",
+    )
+    .unwrap();
+    let out = eapbd(&["simulate", "--scene", "bunny", "--mesh", obj.to_str().unwrap(), "--frames", "3"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("embedded surface of 8 vertices, 12 triangles"), "{stdout}");
+    let node = scratch("tet.node");
+    std::fs::write(&node, "# one tetrahedron\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n").unwrap();
+    std::fs::write(node.with_extension("ele"), "1 4 0\n1 1 2 3 4\n").unwrap();
+    let out = eapbd(&["simulate", "--scene", "bunny", "--mesh", node.to_str().unwrap(), "--frames", "3"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    assert!(stdout.contains("4 particles, 1 constraints"), "{stdout}");
+    std::fs::write(node.with_extension("ele"), "1 4 0\n1 1 2 3 9\n").unwrap();
+    let out = eapbd(&["simulate", "--scene", "bunny", "--mesh", node.to_str().unwrap()]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && stderr.contains("node 9 is not a point"), "{stderr}");
+    let out = eapbd(&["simulate", "--scene", "cloth", "--mesh", obj.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("bunny"), "--mesh needs a bunny scene");
+    let out = eapbd(&["simulate", "--scene", "bunny", "--mesh", "/nonexistent.obj"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent.obj"));
+}
