@@ -187,10 +187,29 @@ fn meshes_from_files_replace_the_bunny() {
          f 1 4 3 2\nf 5 6 7 8\nf 1 2 6 5\nf 2 3 7 6\nf 3 4 8 7\nf 4 1 5 8\n",
     )
     .unwrap();
-    let out = eapbd(&["simulate", "--scene", "bunny", "--mesh", obj.to_str().unwrap(), "--frames", "3"]);
+    let dir = scratch("sequence");
+    let out = eapbd(&[
+        "simulate",
+        "--scene",
+        "bunny",
+        "--mesh",
+        obj.to_str().unwrap(),
+        "--frames",
+        "4",
+        "--export-obj-dir",
+        dir.to_str().unwrap(),
+        "--export-every",
+        "2",
+    ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     assert!(stdout.contains("embedded surface of 8 vertices, 12 triangles"), "{stdout}");
+    // The sequence holds the embedded surface as drawn: 8 vertices and 12 faces per file.
+    for frame in [2, 4] {
+        let text = std::fs::read_to_string(dir.join(format!("frame_{frame:05}.obj"))).unwrap();
+        assert_eq!(text.lines().filter(|l| l.starts_with("v ")).count(), 8);
+        assert_eq!(text.lines().filter(|l| l.starts_with("f ")).count(), 12);
+    }
     let node = scratch("tet.node");
     std::fs::write(&node, "# one tetrahedron\n4 3 0 0\n1 0 0 0\n2 1 0 0\n3 0 1 0\n4 0 0 1\n").unwrap();
     std::fs::write(node.with_extension("ele"), "1 4 0\n1 1 2 3 4\n").unwrap();
