@@ -98,3 +98,19 @@ fn quick_energy_report_writes_its_files() {
     let img = image::open(dir.join("energy_cloth_dt60.png")).unwrap().to_rgb8();
     assert!(img.width() >= 800 && img.pixels().any(|p| p.0 != [255, 255, 255]));
 }
+
+#[test]
+fn viewer_without_a_display_points_to_the_headless_commands() {
+    let out = Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .args(["view", "--exit-after-frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("cannot open a window") && err.contains("eapbd render") && !err.contains("panicked"), "{err}");
+    let out = eapbd(&["view", "--screenshot", "x.png"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--exit-after-frames"), "{err}");
+}

@@ -4,6 +4,7 @@
 
 mod camera;
 mod headless;
+mod lines;
 mod pipelines;
 mod scene_view;
 mod sphere;
@@ -11,6 +12,7 @@ mod target;
 
 pub use camera::{Camera, CameraUniform};
 pub use headless::{HEADLESS_SAMPLES, Snapshotter};
+pub use lines::LineSet;
 pub use pipelines::Renderer;
 pub use scene_view::SceneView;
 pub use sphere::uv_sphere;
