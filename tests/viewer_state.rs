@@ -13,8 +13,9 @@ use eapbd::viewer::grab::Grab;
 use eapbd::viewer::session::SceneInfo;
 use eapbd::viewer::strain::{StrainPass, ramp, vertex_strain};
 use eapbd::viewer::{ColorMode, SceneChoice, Session, ViewerState, ui};
+use egui::accesskit::Role;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{By, Queryable};
 use glam::{Vec3, Vec4};
 
 fn gpu() -> GpuContext {
@@ -49,9 +50,10 @@ fn widgets_change_the_solver_settings_on_the_next_frame() {
     let mut harness = Harness::builder()
         .with_size([330.0, 1500.0])
         .build_ui_state(|ui, s: &mut ViewerState| ui::controls(ui, s, &info), start_state(Backend::Gpu));
-    harness.get_by_label("Iterations").set_value_accesskit(55.0);
+    // A slider and its number field share the label: set the slider.
+    harness.get(By::new().role(Role::Slider).label("Iterations")).set_value_accesskit(55.0);
     harness.run();
-    harness.get_by_label("Stiffness").set_value_accesskit(2.0e5);
+    harness.get(By::new().role(Role::Slider).label("Stiffness")).set_value_accesskit(2.0e5);
     harness.run();
     harness.get_by_label("global (on)").click();
     harness.run();
@@ -110,7 +112,8 @@ fn dragging_a_particle_is_the_same_on_both_backends() {
         .map(|b| Simulation::new(b, sc.clone(), Some((&ctx, &kernels))).unwrap())
         .collect();
     let s = Settings::default();
-    let mut grab = Grab { particle: corner, target: start, inv_mass: sc.inv_mass[corner as usize], plane_normal: Vec3::Z };
+    let mut grab =
+        Grab { particle: corner, target: start, inv_mass: sc.inv_mass[corner as usize], plane_normal: Vec3::Z };
     for f in 0..40 {
         grab.target = start + Vec3::new(0.0, 0.01 * f as f32, 0.01 * f as f32);
         for sim in &mut sims {

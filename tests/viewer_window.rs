@@ -117,8 +117,9 @@ fn viewer_window_draws_panels_and_scene() {
     // The scene in the middle: sky and the cloth (red front or blue back, lit).
     let middle = (320, WIDTH - 320);
     let sky = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| r > 180 && g > 180 && b > 190);
-    let cloth =
-        fraction(&img, middle, (0, HEIGHT), |[r, g, b]| (r > 90 && r as u32 > g as u32 + 40 && r > b) || (b > 90 && b as u32 > r as u32 + 40));
+    let cloth = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| {
+        (r > 90 && r as u32 > g as u32 + 40 && r > b) || (b > 90 && b as u32 > r as u32 + 40)
+    });
     assert!(sky > 0.1 && cloth > 0.03, "no scene: {sky:.2} sky, {cloth:.3} cloth");
 
     let golden = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/viewer_cloth_paper.png");
@@ -131,6 +132,10 @@ fn viewer_window_draws_panels_and_scene() {
         .to_rgba8();
     assert_eq!(reference.dimensions(), img.dimensions());
     let diff = mean_abs_diff(&img, &reference);
-    assert!(diff < MEAN_TOLERANCE, "mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}", out.display());
+    assert!(
+        diff < MEAN_TOLERANCE,
+        "mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}",
+        out.display()
+    );
     let _ = std::fs::remove_file(&out);
 }

@@ -86,7 +86,8 @@ impl Renderer {
             }),
         ];
         let storage = crate::gpu::storage_entry;
-        let vertex_storage = |binding| wgpu::BindGroupLayoutEntry { visibility: wgpu::ShaderStages::VERTEX, ..storage(binding, true) };
+        let vertex_storage =
+            |binding| wgpu::BindGroupLayoutEntry { visibility: wgpu::ShaderStages::VERTEX, ..storage(binding, true) };
         let lines_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("lines"),
             entries: &[vertex_storage(0), vertex_storage(1), vertex_storage(2)],
@@ -138,8 +139,7 @@ impl Renderer {
         let mesh = draw("mesh", shaders::MESH, &buffers, &layout, triangles);
         let ground = draw("ground", shaders::GROUND, &[], &layout, triangles);
         let mesh_colored = draw("mesh_colored", shaders::MESH_COLORED, &colored_buffers, &layout, triangles);
-        let lines =
-            draw("lines", shaders::LINES, &[], &lines_pipeline_layout, wgpu::PrimitiveTopology::LineList);
+        let lines = draw("lines", shaders::LINES, &[], &lines_pipeline_layout, wgpu::PrimitiveTopology::LineList);
         let normals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("normals"),
             entries: &[storage(0, true), storage(1, true), storage(2, true), storage(3, true), storage(4, false)],

@@ -44,7 +44,11 @@ pub fn run(options: ViewerOptions) -> Result<()> {
         return Err(Error::param("--exit-after-frames", 0, "must be at least 1"));
     }
     if options.width == 0 || options.height == 0 {
-        return Err(Error::param("--width/--height", format!("{}x{}", options.width, options.height), "must be positive"));
+        return Err(Error::param(
+            "--width/--height",
+            format!("{}x{}", options.width, options.height),
+            "must be positive",
+        ));
     }
     let event_loop = EventLoop::new().map_err(|e| Error::NoDisplay(e.to_string()))?;
     event_loop.set_control_flow(ControlFlow::Poll);
@@ -176,10 +180,9 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         .with_title("eapbd: energy-aware XPBD")
         .with_inner_size(PhysicalSize::new(o.width, o.height));
     let window = Arc::new(event_loop.create_window(attributes).map_err(|e| Error::NoDisplay(e.to_string()))?);
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
-            event_loop.owned_display_handle(),
-        )));
+    let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(
+        event_loop.owned_display_handle(),
+    )));
     let surface =
         instance.create_surface(window.clone()).map_err(|e| Error::Gpu(format!("cannot create a surface: {e}")))?;
     let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, Some(&surface)))
@@ -386,7 +389,10 @@ impl Running {
         } else {
             [0.0, 0.0, w, h]
         };
-        let screen = egui_wgpu::ScreenDescriptor { size_in_pixels: [self.config.width, self.config.height], pixels_per_point: ppp };
+        let screen = egui_wgpu::ScreenDescriptor {
+            size_in_pixels: [self.config.width, self.config.height],
+            pixels_per_point: ppp,
+        };
         (paint, screen)
     }
 

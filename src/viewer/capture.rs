@@ -40,8 +40,8 @@ impl FrameTargets {
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32, samples: u32) -> Self {
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let size = (width.max(1), height.max(1));
-        let msaa = (samples > 1)
-            .then(|| texture(device, size, samples, format, attach).create_view(&Default::default()));
+        let msaa =
+            (samples > 1).then(|| texture(device, size, samples, format, attach).create_view(&Default::default()));
         let depth = texture(device, size, samples, DEPTH_FORMAT, attach).create_view(&Default::default());
         FrameTargets { width, height, format, msaa, depth }
     }

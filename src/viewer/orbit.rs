@@ -86,7 +86,13 @@ mod tests {
 
     #[test]
     fn orbit_reproduces_the_camera_it_came_from() {
-        let c = Camera { eye: Vec3::new(1.0, 2.0, 3.0), target: Vec3::new(0.0, 0.5, 0.0), fov_y: 0.7, near: 0.1, far: 50.0 };
+        let c = Camera {
+            eye: Vec3::new(1.0, 2.0, 3.0),
+            target: Vec3::new(0.0, 0.5, 0.0),
+            fov_y: 0.7,
+            near: 0.1,
+            far: 50.0,
+        };
         let o = Orbit::from_camera(&c);
         assert!((o.eye() - c.eye).length() < 1e-5);
         let mut moved = o;

@@ -401,7 +401,10 @@ impl Session {
         let family = self.state.group_family.min(self.groups.len().saturating_sub(1));
         if mode == ColorMode::ColorGroups && self.group_lines.as_ref().is_none_or(|(f, _)| *f != family) {
             self.group_lines = self.groups.get(family).map(|g| {
-                (family, LineSet::new(&self.device, &self.renderer, self.view.positions(), &g.segments, &g.segment_colors))
+                (
+                    family,
+                    LineSet::new(&self.device, &self.renderer, self.view.positions(), &g.segments, &g.segment_colors),
+                )
             });
         }
         let mut lines = Vec::new();

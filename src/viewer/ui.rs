@@ -35,12 +35,14 @@ pub struct StatsView<'a> {
 
 /// Draws both panels; returns the rectangle left for the scene (points).
 pub fn panels(ui: &mut Ui, state: &mut ViewerState, stats: &StatsView<'_>) -> egui::Rect {
-    egui::Panel::left("controls").default_size(PANEL_WIDTH).resizable(false).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| controls(ui, state, stats.info))
-    });
-    egui::Panel::right("statistics").default_size(PANEL_WIDTH).resizable(false).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| statistics(ui, state, stats))
-    });
+    egui::Panel::left("controls")
+        .default_size(PANEL_WIDTH)
+        .resizable(false)
+        .show(ui, |ui| egui::ScrollArea::vertical().show(ui, |ui| controls(ui, state, stats.info)));
+    egui::Panel::right("statistics")
+        .default_size(PANEL_WIDTH)
+        .resizable(false)
+        .show(ui, |ui| egui::ScrollArea::vertical().show(ui, |ui| statistics(ui, state, stats)));
     ui.available_rect_before_wrap()
 }
 
@@ -208,7 +210,9 @@ fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
             state.requests.reset_camera = true;
         }
     });
-    ui.label(RichText::new("Drag the body to pull it; drag elsewhere to orbit, right-drag to pan, wheel to zoom.").small());
+    ui.label(
+        RichText::new("Drag the body to pull it; drag elsewhere to orbit, right-drag to pan, wheel to zoom.").small(),
+    );
 }
 
 fn view_controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
