@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 use eapbd::simulation::Backend;
-use eapbd::viewer::{SceneChoice, ViewerOptions, ViewerState};
+use eapbd::viewer::{ColorMode, SceneChoice, ViewerOptions, ViewerState};
 
 use super::{SceneArgs, named};
 
@@ -23,6 +23,12 @@ pub struct ViewArgs {
     /// Window height (px).
     #[arg(long, default_value_t = 800)]
     pub height: u32,
+    /// Surface colours at the start: shaded, groups (color groups), strain or energy.
+    #[arg(long, default_value = "shaded", value_parser = named::<ColorMode>)]
+    pub color: ColorMode,
+    /// Draw the surface's edges at the start.
+    #[arg(long)]
+    pub wireframe: bool,
     /// Close the window after this many frames.
     #[arg(long)]
     pub exit_after_frames: Option<u32>,
@@ -38,7 +44,9 @@ pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
     // Refuse bad options here, with the flag's name, rather than in the window.
     eapbd::scene::build(&a.scene.scene, &options)?;
     let choice = SceneChoice::new(&a.scene.scene, &options)?;
-    let state = ViewerState::new(choice, settings, a.backend);
+    let mut state = ViewerState::new(choice, settings, a.backend);
+    state.color_mode = a.color;
+    state.wireframe = a.wireframe;
     eapbd::viewer::run(ViewerOptions {
         state,
         width: a.width,

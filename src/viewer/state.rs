@@ -76,6 +76,22 @@ impl ColorMode {
     }
 }
 
+impl std::str::FromStr for ColorMode {
+    type Err = crate::Error;
+    fn from_str(s: &str) -> Result<Self> {
+        crate::Error::lookup(
+            "colour mode",
+            s,
+            &[
+                ("shaded", ColorMode::Shaded),
+                ("groups", ColorMode::ColorGroups),
+                ("strain", ColorMode::Strain),
+                ("energy", ColorMode::Energy),
+            ],
+        )
+    }
+}
+
 /// The scene and material the user has chosen (everything that needs a rebuild).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneChoice {
