@@ -132,6 +132,7 @@ fn viewer_window_draws_panels_and_scene() {
         .to_rgba8();
     assert_eq!(reference.dimensions(), img.dimensions());
     let diff = mean_abs_diff(&img, &reference);
+    eprintln!("mean difference from the reference: {diff:.3} of 255");
     assert!(
         diff < MEAN_TOLERANCE,
         "mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}",

@@ -94,6 +94,8 @@ struct Running {
     cursor: Vec2,
     drag: Option<Drag>,
     last_frame: Option<Instant>,
+    /// Configure the surface again after the next present.
+    reconfigure: bool,
     /// The last frame's UI, drawn again by the screenshot.
     last_paint: Option<(Vec<egui::ClippedPrimitive>, egui_wgpu::ScreenDescriptor)>,
 }
@@ -237,6 +239,7 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         drag: None,
         last_frame: None,
         last_paint: None,
+        reconfigure: false,
     })
 }
 
@@ -316,7 +319,8 @@ impl Running {
         let frame = match self.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f) => f,
             wgpu::CurrentSurfaceTexture::Suboptimal(f) => {
-                self.surface.configure(&self.ctx.device, &self.config);
+                // Draw this one; configure again once it is presented.
+                self.reconfigure = true;
                 f
             }
             wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => return Ok(false),
@@ -339,8 +343,9 @@ impl Running {
             }
         };
         if frame.texture.width() != self.targets.width || frame.texture.height() != self.targets.height {
-            // The window changed size since the last configuration.
-            self.resize(PhysicalSize::new(frame.texture.width(), frame.texture.height()));
+            // The surface and the targets disagree: drop this frame and configure both again.
+            drop(frame);
+            self.resize(self.window.inner_size());
             return Ok(false);
         }
         let view = frame.texture.create_view(&Default::default());
@@ -355,6 +360,9 @@ impl Running {
         self.session.after_submit();
         self.window.pre_present_notify();
         self.ctx.queue.present(frame);
+        if std::mem::take(&mut self.reconfigure) {
+            self.resize(self.window.inner_size());
+        }
         self.session.poll();
         self.last_paint = Some((paint, screen));
         Ok(true)

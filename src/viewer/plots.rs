@@ -44,11 +44,17 @@ pub struct History {
 }
 
 impl History {
-    /// Appends a sample (a frame number not after the last one starts a new history: the
-    /// simulation was reset), dropping the oldest beyond [`HISTORY_LEN`].
+    /// Appends a sample, dropping the oldest beyond [`HISTORY_LEN`]. A sample of the last
+    /// frame again (paused) replaces it; an earlier frame starts a new history (a reset).
     pub fn push(&mut self, s: Sample) {
-        if self.samples.back().is_some_and(|last| s.frame <= last.frame) {
-            self.samples.clear();
+        if let Some(last) = self.samples.back_mut() {
+            if s.frame == last.frame {
+                *last = s;
+                return;
+            }
+            if s.frame < last.frame {
+                self.samples.clear();
+            }
         }
         if self.samples.len() == HISTORY_LEN {
             self.samples.pop_front();
@@ -94,6 +100,9 @@ mod tests {
         }
         assert_eq!(h.len(), HISTORY_LEN);
         assert_eq!(h.samples().next().unwrap().frame, 11);
+        h.push(Sample { frame: HISTORY_LEN as u32 + 10, total: -1.0, ..Sample::default() });
+        assert_eq!(h.len(), HISTORY_LEN, "the same frame again replaces the last sample");
+        assert_eq!(h.samples().last().unwrap().total, -1.0);
         h.push(Sample { frame: 1, ..Sample::default() });
         assert_eq!(h.len(), 1);
         assert_eq!(h.series(|s| s.total), vec![[1.0, 0.0]]);

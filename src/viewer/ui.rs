@@ -36,12 +36,10 @@ pub struct StatsView<'a> {
 /// Draws both panels; returns the rectangle left for the scene (points).
 pub fn panels(ui: &mut Ui, state: &mut ViewerState, stats: &StatsView<'_>) -> egui::Rect {
     egui::Panel::left("controls")
-        .default_size(PANEL_WIDTH)
-        .resizable(false)
+        .exact_size(PANEL_WIDTH)
         .show(ui, |ui| egui::ScrollArea::vertical().show(ui, |ui| controls(ui, state, stats.info)));
     egui::Panel::right("statistics")
-        .default_size(PANEL_WIDTH)
-        .resizable(false)
+        .exact_size(PANEL_WIDTH)
         .show(ui, |ui| egui::ScrollArea::vertical().show(ui, |ui| statistics(ui, state, stats)));
     ui.available_rect_before_wrap()
 }
@@ -140,7 +138,7 @@ fn material_controls(ui: &mut Ui, state: &mut ViewerState) {
             ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ν_uv"));
         }
         MaterialChoice::Solid(_) => {
-            ui.add(log_slider(&mut c.young, 1.0e4..=1.0e9, "Young's modulus", "Pa"));
+            ui.add(log_slider(&mut c.young, 1.0e4..=1.0e9, "Young E", "Pa"));
             ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ratio"));
         }
     }
