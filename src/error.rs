@@ -35,6 +35,13 @@ pub enum Error {
          also works on the CPU backend (`simulate --backend cpu`)"
     )]
     NoAdapter(String),
+    /// No window could be opened (no display, or the windowing system refused).
+    #[error(
+        "cannot open a window ({0}). The viewer needs a display (X11, or Wayland through XWayland; \
+         on a machine without one run it under `xvfb-run -a`). Without a window, `eapbd render` \
+         writes PNG frames and `eapbd simulate` prints per-frame statistics"
+    )]
+    NoDisplay(String),
     /// A GPU operation failed.
     #[error("GPU error: {0}")]
     Gpu(String),

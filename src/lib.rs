@@ -7,7 +7,8 @@
 //! - [`coloring`]: race-free color groups for parallel Gauss-Seidel;
 //! - [`scene`]: scene descriptions and builders;
 //! - [`solver`]: the CPU reference solver and its settings;
-//! - [`metrics`]: residual, stretch and energy measures.
+//! - [`metrics`]: residual, stretch and energy measures;
+//! - [`viewer`]: the interactive window (winit, egui) on the solver's device.
 //!
 //! SI units throughout: metres, kilograms, seconds.
 
@@ -24,5 +25,6 @@ pub mod report;
 pub mod scene;
 pub mod simulation;
 pub mod solver;
+pub mod viewer;
 
 pub use error::{Error, Result};

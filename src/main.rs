@@ -1,4 +1,5 @@
-//! The `eapbd` command line: simulate scenes, render them headless, benchmark the solvers.
+//! The `eapbd` command line: the interactive viewer, simulate scenes, render them headless,
+//! benchmark the solvers.
 
 mod cli;
 
@@ -8,7 +9,18 @@ fn main() -> anyhow::Result<()> {
     let matches = cli::Cli::command().get_matches_from(cli::scene_file::expand(std::env::args_os())?);
     let args = cli::Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let sub = matches.subcommand().map(|(_, m)| m);
-    match args.command {
+    let command = match args.command {
+        Some(c) => c,
+        // `eapbd` alone: the viewer on the hanging cloth.
+        None => cli::Cli::try_parse_from(["eapbd", "view", "--scene", "cloth"])?
+            .command
+            .ok_or_else(|| anyhow::anyhow!("the default view command did not parse"))?,
+    };
+    match command {
+        cli::Command::View(a) => {
+            sub.map(|m| a.scene.save(m)).transpose()?;
+            cli::view::run(&a)
+        }
         cli::Command::Simulate(a) => {
             sub.map(|m| a.scene.save(m)).transpose()?;
             cli::simulate::run(&a)

@@ -226,3 +226,19 @@ fn meshes_from_files_replace_the_bunny() {
     let out = eapbd(&["simulate", "--scene", "bunny", "--mesh", "/nonexistent.obj"]);
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent.obj"));
 }
+
+#[test]
+fn viewer_without_a_display_points_to_the_headless_commands() {
+    let out = Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .args(["view", "--exit-after-frames", "1"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("cannot open a window") && err.contains("eapbd render") && !err.contains("panicked"), "{err}");
+    let out = eapbd(&["view", "--screenshot", "x.png"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--exit-after-frames"), "{err}");
+}

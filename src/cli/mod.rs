@@ -5,6 +5,7 @@ pub mod render;
 pub mod report;
 pub mod scene_file;
 pub mod simulate;
+pub mod view;
 
 use std::str::FromStr;
 
@@ -14,18 +15,21 @@ use eapbd::material::Model;
 use eapbd::scene::{Body, SceneOptions, TetMode};
 use eapbd::solver::{EnergyAware, Method, Settings};
 
-/// Energy-aware position-based dynamics for elastic models.
+/// Energy-aware position-based dynamics for elastic models. Without a subcommand, opens the
+/// interactive viewer on the hanging cloth.
 #[derive(Parser, Debug)]
 #[command(name = "eapbd", version, about, args_override_self = true)]
 pub struct Cli {
-    /// What to do.
+    /// What to do (default: the viewer on the cloth).
     #[command(subcommand)]
-    pub command: Command,
+    pub command: Option<Command>,
 }
 
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
+    /// Open the interactive viewer (a window with controls, statistics and plots).
+    View(view::ViewArgs),
     /// Run a scene on the CPU solver and print per-frame residual, stretch and energies.
     Simulate(simulate::SimulateArgs),
     /// Simulate headless and write frames as PNG images.

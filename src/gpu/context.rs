@@ -35,7 +35,11 @@ impl GpuContext {
             .limits()
             .max_storage_buffers_per_shader_stage
             .clamp(required_limits.max_storage_buffers_per_shader_stage, 16);
-        let desc = wgpu::DeviceDescriptor { label: Some("eapbd"), required_limits, ..Default::default() };
+        // GPU timings (the viewer's solver time) where the adapter has timestamps.
+        let required_features =
+            adapter.features() & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
+        let desc =
+            wgpu::DeviceDescriptor { label: Some("eapbd"), required_limits, required_features, ..Default::default() };
         let (device, queue) = pollster::block_on(adapter.request_device(&desc))
             .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", adapter.get_info().name)))?;
         Ok(GpuContext { instance, adapter, device, queue })

@@ -45,8 +45,17 @@ pub const MESH: &str =
 pub const GROUND: &str =
     concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/ground.wgsl"));
 
+/// Lit surfaces with a colour per vertex.
+pub const MESH_COLORED: &str =
+    concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/mesh_colored.wgsl"));
+/// Line segments between particles (wireframe, color groups).
+pub const LINES: &str =
+    concat!(include_str!("../../shaders/render/common.wgsl"), include_str!("../../shaders/render/lines.wgsl"));
+/// Strain colours per vertex.
+pub const STRAIN: &str = include_str!("../../shaders/render/strain.wgsl");
+
 /// Every composed module with its name, for validation.
-pub const ALL: [(&str, &str); 9] = [
+pub const ALL: [(&str, &str); 12] = [
     ("springs", SPRINGS),
     ("bending", BENDING),
     ("tets", TETS),
@@ -56,4 +65,7 @@ pub const ALL: [(&str, &str); 9] = [
     ("embed", EMBED),
     ("mesh", MESH),
     ("ground", GROUND),
+    ("mesh_colored", MESH_COLORED),
+    ("lines", LINES),
+    ("strain", STRAIN),
 ];

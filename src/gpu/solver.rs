@@ -258,6 +258,22 @@ impl GpuSolver {
         &self.scene
     }
 
+    /// Velocities (xyz, m/s; w: the particle's dissipated work, J), one `vec4<f32>` per particle
+    /// (`STORAGE | COPY_SRC | COPY_DST`), for copies on the device.
+    pub fn velocities(&self) -> &wgpu::Buffer {
+        &self.v
+    }
+
+    /// Each family's multipliers as `(family index in solve order, buffer, element count)`.
+    pub fn lambda_buffers(&self) -> impl Iterator<Item = (usize, &wgpu::Buffer, u32)> {
+        self.families.iter().map(|f| (f.kind as usize, &f.lambda, f.len))
+    }
+
+    /// The settings of the last recorded frame.
+    pub fn last_settings(&self) -> Option<&Settings> {
+        self.last.as_ref()
+    }
+
     /// Records one frame of `settings.dt` into `encoder` (one compute pass, no read-back).
     /// Call [`Settings::validate`] first.
     pub fn encode_frame(&mut self, encoder: &mut wgpu::CommandEncoder, s: &Settings) {

@@ -5,6 +5,7 @@
 mod camera;
 mod embed;
 mod headless;
+mod lines;
 mod pipelines;
 mod scene_view;
 mod sphere;
@@ -13,6 +14,7 @@ mod target;
 pub use camera::{Camera, CameraUniform};
 pub use embed::Embedder;
 pub use headless::{HEADLESS_SAMPLES, Snapshotter};
+pub use lines::LineSet;
 pub use pipelines::Renderer;
 pub use scene_view::SceneView;
 pub use sphere::uv_sphere;

@@ -17,6 +17,12 @@ pub struct Renderer {
     pub mesh: wgpu::RenderPipeline,
     /// The ground plane.
     pub ground: wgpu::RenderPipeline,
+    /// Lit surfaces with a colour per vertex.
+    pub mesh_colored: wgpu::RenderPipeline,
+    /// Group 1 of the lines pipeline: positions, segments, colours.
+    pub lines_layout: wgpu::BindGroupLayout,
+    /// Line segments between particles.
+    pub lines: wgpu::RenderPipeline,
     /// Vertex normals from positions.
     pub normals: wgpu::ComputePipeline,
     /// Colour format drawn into.
@@ -69,18 +75,44 @@ impl Renderer {
                 attributes: &nrm_attr,
             }),
         ];
-        let draw = |label: &str, source: &str, buffers: &[Option<wgpu::VertexBufferLayout>]| {
+        let color_attr = [vec4(2)];
+        let colored_buffers = [
+            buffers[0].clone(),
+            buffers[1].clone(),
+            Some(wgpu::VertexBufferLayout {
+                array_stride: 16,
+                step_mode: wgpu::VertexStepMode::Vertex,
+                attributes: &color_attr,
+            }),
+        ];
+        let storage = crate::gpu::storage_entry;
+        let vertex_storage =
+            |binding| wgpu::BindGroupLayoutEntry { visibility: wgpu::ShaderStages::VERTEX, ..storage(binding, true) };
+        let lines_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("lines"),
+            entries: &[vertex_storage(0), vertex_storage(1), vertex_storage(2)],
+        });
+        let lines_pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("lines"),
+            bind_group_layouts: &[Some(&camera_layout), Some(&lines_layout)],
+            immediate_size: 0,
+        });
+        let draw = |label: &str,
+                    source: &str,
+                    buffers: &[Option<wgpu::VertexBufferLayout>],
+                    layout: &wgpu::PipelineLayout,
+                    topology: wgpu::PrimitiveTopology| {
             let module = crate::gpu::shader_module(device, label, source);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(label),
-                layout: Some(&layout),
+                layout: Some(layout),
                 vertex: wgpu::VertexState {
                     module: &module,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
                     buffers,
                 },
-                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                primitive: wgpu::PrimitiveState { topology, cull_mode: None, ..Default::default() },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(true),
@@ -103,9 +135,11 @@ impl Renderer {
                 cache: None,
             })
         };
-        let mesh = draw("mesh", shaders::MESH, &buffers);
-        let ground = draw("ground", shaders::GROUND, &[]);
-        let storage = crate::gpu::storage_entry;
+        let triangles = wgpu::PrimitiveTopology::TriangleList;
+        let mesh = draw("mesh", shaders::MESH, &buffers, &layout, triangles);
+        let ground = draw("ground", shaders::GROUND, &[], &layout, triangles);
+        let mesh_colored = draw("mesh_colored", shaders::MESH_COLORED, &colored_buffers, &layout, triangles);
+        let lines = draw("lines", shaders::LINES, &[], &lines_pipeline_layout, wgpu::PrimitiveTopology::LineList);
         let normals_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("normals"),
             entries: &[storage(0, true), storage(1, true), storage(2, true), storage(3, true), storage(4, false)],
@@ -123,6 +157,18 @@ impl Renderer {
             compilation_options: Default::default(),
             cache: None,
         });
-        Renderer { camera_layout, uniform_layout, normals_layout, mesh, ground, normals, format, samples }
+        Renderer {
+            camera_layout,
+            uniform_layout,
+            normals_layout,
+            mesh,
+            ground,
+            mesh_colored,
+            lines_layout,
+            lines,
+            normals,
+            format,
+            samples,
+        }
     }
 }

@@ -5,6 +5,7 @@ use wgpu::util::DeviceExt;
 
 use super::camera::Camera;
 use super::embed::Embedder;
+use super::lines::LineSet;
 use super::pipelines::Renderer;
 use super::sphere::uv_sphere;
 use super::target::FrameViews;
@@ -65,6 +66,13 @@ pub struct SceneView {
     pub camera: Camera,
     /// Whether the simulated surface is drawn (tests draw the background alone to measure it).
     pub show_surface: bool,
+    /// A colour per vertex (`vec4`, `VERTEX`) replacing the surface's material, if set.
+    pub vertex_colors: Option<wgpu::Buffer>,
+    /// Line segments drawn after the surfaces (wireframe, color groups).
+    pub lines: Vec<LineSet>,
+    /// Where in the target the scene is drawn: `[x, y, width, height]` in pixels (the whole
+    /// target when `None`; the background is cleared everywhere).
+    pub viewport: Option<[f32; 4]>,
 }
 
 impl SceneView {
@@ -133,7 +141,15 @@ impl SceneView {
             embedder,
             camera,
             show_surface: true,
+            vertex_colors: None,
+            lines: Vec::new(),
+            viewport: None,
         }
+    }
+
+    /// The position buffer the surface is drawn from.
+    pub fn positions(&self) -> &wgpu::Buffer {
+        &self.surface.positions
     }
 
     /// Uploads the camera for a target of `width × height` pixels.
@@ -171,6 +187,12 @@ impl SceneView {
             occlusion_query_set: None,
             multiview_mask: None,
         });
+        if let Some([x, y, w, h]) = self.viewport
+            && w >= 1.0
+            && h >= 1.0
+        {
+            pass.set_viewport(x, y, w, h, 0.0, 1.0);
+        }
         pass.set_bind_group(0, &self.camera_group, &[]);
         if let Some(g) = &self.ground {
             pass.set_pipeline(&r.ground);
@@ -186,8 +208,15 @@ impl SceneView {
             pass.set_bind_group(1, &m.material, &[]);
             pass.set_vertex_buffer(0, m.positions.slice(..));
             pass.set_vertex_buffer(1, m.normals.slice(..));
+            if let (true, Some(colors)) = (std::ptr::eq(m, &self.surface), &self.vertex_colors) {
+                pass.set_pipeline(&r.mesh_colored);
+                pass.set_vertex_buffer(2, colors.slice(..));
+            }
             pass.set_index_buffer(m.index.slice(..), wgpu::IndexFormat::Uint32);
             pass.draw_indexed(0..m.count, 0, 0..1);
+        }
+        for l in &self.lines {
+            l.draw(r, &mut pass);
         }
     }
 }

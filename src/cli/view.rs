@@ -1,0 +1,58 @@
+//! `eapbd view` (and `eapbd` alone): the interactive viewer.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use eapbd::simulation::Backend;
+use eapbd::viewer::{ColorMode, SceneChoice, ViewerOptions, ViewerState};
+
+use super::{SceneArgs, named};
+
+/// Arguments of `eapbd view`.
+#[derive(Args, Debug)]
+pub struct ViewArgs {
+    /// Scene and solver options at the start (all of them can be changed in the window).
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Solver backend: gpu or cpu.
+    #[arg(long, default_value = "gpu", value_parser = named::<Backend>)]
+    pub backend: Backend,
+    /// Window width (px).
+    #[arg(long, default_value_t = 1280)]
+    pub width: u32,
+    /// Window height (px).
+    #[arg(long, default_value_t = 800)]
+    pub height: u32,
+    /// Surface colours at the start: shaded, groups (color groups), strain or energy.
+    #[arg(long, default_value = "shaded", value_parser = named::<ColorMode>)]
+    pub color: ColorMode,
+    /// Draw the surface's edges at the start.
+    #[arg(long)]
+    pub wireframe: bool,
+    /// Close the window after this many frames.
+    #[arg(long)]
+    pub exit_after_frames: Option<u32>,
+    /// Write the last frame (panels included) to this PNG file; with --exit-after-frames.
+    #[arg(long, requires = "exit_after_frames")]
+    pub screenshot: Option<PathBuf>,
+}
+
+/// Runs the command.
+pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
+    let settings = a.scene.settings()?;
+    let options = a.scene.scene_options()?;
+    // Refuse bad options here, with the flag's name, rather than in the window.
+    eapbd::scene::build(&a.scene.scene, &options)?;
+    let choice = SceneChoice::new(&a.scene.scene, &options)?;
+    let mut state = ViewerState::new(choice, settings, a.backend);
+    state.color_mode = a.color;
+    state.wireframe = a.wireframe;
+    eapbd::viewer::run(ViewerOptions {
+        state,
+        width: a.width,
+        height: a.height,
+        exit_after_frames: a.exit_after_frames,
+        screenshot: a.screenshot.clone(),
+    })?;
+    Ok(())
+}

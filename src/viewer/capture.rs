@@ -1,0 +1,101 @@
+//! The window's render targets (multisampled colour and depth, resolved into the surface) and
+//! the capture of a frame for `--screenshot`.
+
+use crate::error::{Error, Result};
+use crate::render::{DEPTH_FORMAT, FrameViews};
+
+/// Multisampled colour and depth of the window's size; frames resolve into the surface texture.
+#[derive(Debug)]
+pub struct FrameTargets {
+    /// Width (px).
+    pub width: u32,
+    /// Height (px).
+    pub height: u32,
+    format: wgpu::TextureFormat,
+    msaa: Option<wgpu::TextureView>,
+    depth: wgpu::TextureView,
+}
+
+fn texture(
+    device: &wgpu::Device,
+    (w, h): (u32, u32),
+    samples: u32,
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("window target"),
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: samples,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+impl FrameTargets {
+    /// Targets of `width × height` pixels for a surface of `format`.
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32, samples: u32) -> Self {
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let size = (width.max(1), height.max(1));
+        let msaa =
+            (samples > 1).then(|| texture(device, size, samples, format, attach).create_view(&Default::default()));
+        let depth = texture(device, size, samples, DEPTH_FORMAT, attach).create_view(&Default::default());
+        FrameTargets { width, height, format, msaa, depth }
+    }
+
+    /// The views of a frame resolving into `target`.
+    pub fn views<'a>(&'a self, target: &'a wgpu::TextureView) -> FrameViews<'a> {
+        match &self.msaa {
+            Some(m) => FrameViews { color: m, resolve: Some(target), depth: &self.depth },
+            None => FrameViews { color: target, resolve: None, depth: &self.depth },
+        }
+    }
+
+    /// A texture like the surface's that can be copied out.
+    pub fn capture_texture(&self, device: &wgpu::Device) -> wgpu::Texture {
+        let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
+        texture(device, (self.width.max(1), self.height.max(1)), 1, self.format, usage)
+    }
+}
+
+/// Copies a 4-byte-per-pixel texture back as RGBA (BGRA formats are swizzled).
+pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<image::RgbaImage> {
+    let (width, height) = (texture.width(), texture.height());
+    let format = texture.format();
+    if format.block_copy_size(None) != Some(4) {
+        return Err(Error::Unsupported(format!("capturing a {format:?} surface")));
+    }
+    let row = width * 4;
+    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("capture readback"),
+        size: padded as u64 * height as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: None },
+        },
+        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+    );
+    queue.submit([enc.finish()]);
+    let bytes: Vec<u8> = crate::gpu::map_and_copy(device, &buffer)?;
+    let bgra = matches!(format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb);
+    let mut pixels = Vec::with_capacity((row * height) as usize);
+    for r in 0..height as usize {
+        let line = &bytes[r * padded as usize..r * padded as usize + row as usize];
+        for px in line.chunks_exact(4) {
+            let [a, b, c, d] = [px[0], px[1], px[2], px[3]];
+            pixels.extend_from_slice(&if bgra { [c, b, a, 255] } else { [a, b, c, 255] });
+            let _ = d;
+        }
+    }
+    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| Error::Gpu("image size mismatch".into()))
+}

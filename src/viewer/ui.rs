@@ -1,0 +1,290 @@
+//! The egui panels: controls on the left (they only edit [`ViewerState`]), statistics and live
+//! plots on the right.
+
+use egui::{ComboBox, RichText, Slider, Ui};
+use egui_plot::{Legend, Line, Plot};
+
+use super::plots::History;
+use super::session::{SceneInfo, Timings};
+use super::state::{ColorMode, MaterialChoice, ViewerState};
+use crate::constraints::Form;
+use crate::metrics::FrameStats;
+use crate::scene::{SCENES, TetMode};
+use crate::simulation::Backend;
+use crate::solver::{EnergyAware, Method};
+
+/// Width of the side panels (points).
+pub const PANEL_WIDTH: f32 = 290.0;
+
+/// What the statistics panel shows.
+#[derive(Clone, Copy, Debug)]
+pub struct StatsView<'a> {
+    /// The scene.
+    pub info: &'a SceneInfo,
+    /// The latest statistics.
+    pub stats: Option<&'a FrameStats>,
+    /// Recent statistics.
+    pub history: &'a History,
+    /// Timings.
+    pub timings: Timings,
+    /// Frames simulated since the last reset.
+    pub frame: u32,
+    /// Range of the energy view's colour scale (J).
+    pub energy_scale: f32,
+}
+
+/// Draws both panels; returns the rectangle left for the scene (points).
+pub fn panels(ui: &mut Ui, state: &mut ViewerState, stats: &StatsView<'_>) -> egui::Rect {
+    egui::Panel::left("controls")
+        .exact_size(PANEL_WIDTH)
+        .show(ui, |ui| egui::ScrollArea::vertical().show(ui, |ui| controls(ui, state, stats.info)));
+    egui::Panel::right("statistics")
+        .exact_size(PANEL_WIDTH)
+        .show(ui, |ui| egui::ScrollArea::vertical().show(ui, |ui| statistics(ui, state, stats)));
+    ui.available_rect_before_wrap()
+}
+
+/// A logarithmic slider over `range` showing the value with `unit`.
+fn log_slider<'a, N: egui::emath::Numeric>(
+    value: &'a mut N,
+    range: std::ops::RangeInclusive<N>,
+    label: &str,
+    unit: &str,
+) -> Slider<'a> {
+    Slider::new(value, range)
+        .logarithmic(true)
+        .text(label.to_string())
+        .suffix(format!(" {unit}"))
+        .custom_formatter(|v, _| format!("{v:.3e}"))
+}
+
+/// The control panel: scene, material, solver, simulation buttons and view options.
+pub fn controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
+    ui.heading("eapbd");
+    ui.label(RichText::new("Energy-aware XPBD").small());
+    ui.separator();
+    scene_controls(ui, state);
+    ui.separator();
+    material_controls(ui, state);
+    ui.separator();
+    solver_controls(ui, state);
+    ui.separator();
+    simulation_buttons(ui, state);
+    ui.separator();
+    view_controls(ui, state, info);
+    if let Some(e) = &state.error {
+        ui.separator();
+        ui.colored_label(egui::Color32::from_rgb(200, 40, 30), e);
+    }
+}
+
+fn scene_controls(ui: &mut Ui, state: &mut ViewerState) {
+    ui.label(RichText::new("Scene").strong());
+    let c = &mut state.choice;
+    let mut index = c.scene;
+    ComboBox::from_label("Scene").selected_text(c.name()).show_ui(ui, |ui| {
+        for (i, name) in SCENES.iter().enumerate() {
+            ui.selectable_value(&mut index, i, *name);
+        }
+    });
+    c.set_scene(index);
+    let mut own = c.resolution.is_none();
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut own, "scene's resolution");
+        if !own {
+            let mut n = c.resolution.unwrap_or(if c.solid { 10 } else { 41 });
+            let range = if c.solid { 2..=40 } else { 3..=128 };
+            ui.add(Slider::new(&mut n, range).text("Resolution"));
+            c.resolution = Some(n);
+        }
+    });
+    if own {
+        c.resolution = None;
+    }
+    ui.checkbox(&mut c.gravity, "Gravity");
+    if c.solid {
+        ui.horizontal(|ui| {
+            ui.label("Tetrahedra");
+            ui.radio_value(&mut c.tets, TetMode::Volume, "volume");
+            ui.radio_value(&mut c.tets, TetMode::Centroid, "centroid");
+        });
+    }
+}
+
+fn material_controls(ui: &mut Ui, state: &mut ViewerState) {
+    ui.label(RichText::new("Material").strong());
+    let c = &mut state.choice;
+    ComboBox::from_label("Material").selected_text(c.material.name()).show_ui(ui, |ui| {
+        for m in c.materials() {
+            ui.selectable_value(&mut c.material, *m, m.name());
+        }
+    });
+    match c.material {
+        MaterialChoice::Spring(_) => {
+            ui.add(log_slider(&mut c.stiffness, 10.0..=1.0e7, "Stiffness", "N/m"));
+        }
+        MaterialChoice::AnisoCloth => {
+            ui.add(log_slider(&mut c.warp, 10.0..=1.0e7, "Warp E_u", "N/m"));
+            ui.add(log_slider(&mut c.weft, 10.0..=1.0e7, "Weft E_v", "N/m"));
+            let mut auto = c.shear.is_none();
+            ui.checkbox(&mut auto, "Shear from Huber's estimate");
+            if auto {
+                c.shear = None;
+            } else {
+                let mut g = c.shear.unwrap_or((c.warp * c.weft).sqrt() / (2.0 * (1.0 + c.poisson)));
+                ui.add(log_slider(&mut g, 1.0..=1.0e7, "Shear G", "N/m"));
+                c.shear = Some(g);
+            }
+            ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ν_uv"));
+        }
+        MaterialChoice::Solid(_) => {
+            ui.add(log_slider(&mut c.young, 1.0e4..=1.0e9, "Young E", "Pa"));
+            ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ratio"));
+        }
+    }
+    if !c.solid {
+        let mut on = c.bending.is_some_and(|k| k > 0.0);
+        ui.checkbox(&mut on, "Bending");
+        if on {
+            let mut kb = c.bending.filter(|k| *k > 0.0).unwrap_or(1.0e-3);
+            ui.add(log_slider(&mut kb, 1.0e-6..=1.0, "Bending k_b", "N·m/rad"));
+            c.bending = Some(kb);
+        } else {
+            c.bending = Some(0.0);
+        }
+    }
+}
+
+fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
+    ui.label(RichText::new("Solver").strong());
+    let s = &mut state.settings;
+    ui.add(Slider::new(&mut s.iterations, 1..=200).logarithmic(true).text("Iterations"));
+    ui.add(Slider::new(&mut s.substeps, 1..=64).logarithmic(true).text("Substeps"));
+    ui.add(log_slider(&mut s.dt, 1.0 / 480.0..=1.0 / 15.0, "Time step", "s"));
+    ui.add(Slider::new(&mut s.damping, 0.0..=5.0).text("Damping").suffix(" 1/s"));
+    ui.horizontal(|ui| {
+        ui.label("Form");
+        ui.radio_value(&mut s.form, Form::Compliant, "compliant");
+        ui.radio_value(&mut s.form, Form::Energy, "energy");
+    });
+    if s.form == Form::Energy {
+        ui.add(log_slider(&mut s.energy_compliance, 1.0e-9..=1.0e-1, "Energy compliance", ""));
+    }
+    ui.horizontal(|ui| {
+        ui.label("Iteration");
+        ui.radio_value(&mut s.method, Method::GaussSeidel, "Gauss-Seidel");
+        ui.radio_value(&mut s.method, Method::Jacobi, "Jacobi");
+    });
+    if s.method == Method::Jacobi {
+        ui.add(Slider::new(&mut s.jacobi_omega, 0.1..=1.9).text("Jacobi ω"));
+    }
+    ui.horizontal(|ui| {
+        ui.label("Energy-aware");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Off, "off");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Local, "local");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Global, "global (on)");
+    });
+    ui.add(Slider::new(&mut s.sor, 0.1..=1.9).text("SOR ω"));
+    ui.horizontal(|ui| {
+        ui.label("Backend");
+        ui.radio_value(&mut state.backend, Backend::Gpu, "GPU");
+        ui.radio_value(&mut state.backend, Backend::Cpu, "CPU");
+    });
+}
+
+fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
+    ui.horizontal(|ui| {
+        let label = if state.paused { "Run" } else { "Pause" };
+        if ui.button(label).clicked() {
+            state.paused = !state.paused;
+        }
+        if ui.add_enabled(state.paused, egui::Button::new("Step")).clicked() {
+            state.requests.step = true;
+        }
+        if ui.button("Reset").clicked() {
+            state.requests.reset = true;
+        }
+        if ui.button("Camera").clicked() {
+            state.requests.reset_camera = true;
+        }
+    });
+    ui.label(
+        RichText::new("Drag the body to pull it; drag elsewhere to orbit, right-drag to pan, wheel to zoom.").small(),
+    );
+}
+
+fn view_controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
+    ui.label(RichText::new("View").strong());
+    ui.checkbox(&mut state.wireframe, "Wireframe");
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Colour");
+        for m in ColorMode::ALL {
+            ui.radio_value(&mut state.color_mode, m, m.label());
+        }
+    });
+    match state.color_mode {
+        ColorMode::ColorGroups if !info.families.is_empty() => {
+            let f = state.group_family.min(info.families.len() - 1);
+            ComboBox::from_label("Family").selected_text(info.families[f].0).show_ui(ui, |ui| {
+                for (i, (name, _, _)) in info.families.iter().enumerate() {
+                    ui.selectable_value(&mut state.group_family, i, *name);
+                }
+            });
+            let (_, n, colors) = info.families[f];
+            ui.label(format!("{n} elements in {colors} color groups: one dispatch per group, no two elements of a group share a particle."));
+        }
+        ColorMode::Strain => {
+            ui.add(log_slider(&mut state.strain_scale, 1.0e-4..=1.0, "Red at stretch", ""));
+        }
+        _ => {}
+    }
+}
+
+/// The statistics panel: figures and live plots.
+pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
+    ui.heading("Statistics");
+    let info = v.info;
+    egui::Grid::new("figures").num_columns(2).striped(true).show(ui, |ui| {
+        let mut row = |name: &str, value: String| {
+            ui.label(name);
+            ui.label(value);
+            ui.end_row();
+        };
+        row("FPS", format!("{:.1}", v.timings.fps));
+        row(
+            "Solver",
+            v.timings.solver_ms.map_or("–".into(), |ms| format!("{ms:.2} ms/frame ({})", state.backend.name())),
+        );
+        row("Frame", v.frame.to_string());
+        row("Particles", info.particles.to_string());
+        row("Constraints", info.constraints.to_string());
+        for (name, n, colors) in &info.families {
+            row(name, format!("{n} in {colors} colors"));
+        }
+        if let Some(s) = v.stats {
+            row("Residual", format!("{:.3e} rms, {:.3e} max", s.residual_rms, s.residual_max));
+            row("Stretch", format!("{:.2}% mean, {:.2}% max", 100.0 * s.stretch_mean, 100.0 * s.stretch_max));
+            row("Kinetic", format!("{:.4e} J", s.kinetic));
+            row("Elastic", format!("{:.4e} J", s.elastic));
+            row("Gravity", format!("{:+.4e} J", s.gravitational));
+            row("Total", format!("{:+.4e} J", s.total()));
+        }
+        if state.color_mode == ColorMode::Energy {
+            row("Red at", format!("{:.3e} J", v.energy_scale));
+        }
+    });
+    ui.label(RichText::new(&info.adapter).small());
+    ui.separator();
+    ui.label(RichText::new("Energy (J)").strong());
+    let h = v.history;
+    Plot::new("energy").height(170.0).legend(Legend::default()).allow_scroll(false).show(ui, |p| {
+        p.line(Line::new("kinetic", h.series(|s| s.kinetic)));
+        p.line(Line::new("elastic", h.series(|s| s.elastic)));
+        p.line(Line::new("gravity", h.series(|s| s.gravitational)));
+        p.line(Line::new("total", h.series(|s| s.total)));
+    });
+    ui.label(RichText::new("log₁₀ residual (rms)").strong());
+    Plot::new("residual").height(120.0).allow_scroll(false).show(ui, |p| {
+        p.line(Line::new("residual", h.series(|s| s.residual.max(1e-30).log10())));
+    });
+}

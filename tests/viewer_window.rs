@@ -1,0 +1,142 @@
+//! The viewer for real: `eapbd view --scene cloth-paper --exit-after-frames 120 --screenshot
+//! PATH` in a window on a virtual X display (Xvfb, started here; or `DISPLAY` when Xvfb is not
+//! installed), drawn on the GPU adapter (lavapipe in CI). The screenshot (panels included) is
+//! compared with `tests/golden/viewer_cloth_paper.png` by a tolerance; regenerate it on purpose
+//! with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release --test viewer_window`.
+
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const WIDTH: u32 = 1024;
+const HEIGHT: u32 = 640;
+/// Mean absolute difference per channel (0–255) allowed against the reference: the FPS and
+/// timing figures in the panel differ between runs.
+const MEAN_TOLERANCE: f64 = 3.0;
+/// The viewer must finish within this time.
+const TIMEOUT: Duration = Duration::from_secs(240);
+
+/// An X server started for the test, stopped when dropped.
+struct Xvfb(Child);
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A display to open windows on: a new Xvfb, or `DISPLAY` when Xvfb is not installed.
+fn display() -> (Option<Xvfb>, String) {
+    let spawned = Command::new("Xvfb")
+        .args(["-displayfd", "1", "-screen", "0", "1280x800x24", "-nolisten", "tcp"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn();
+    match spawned {
+        Ok(mut child) => {
+            let mut line = String::new();
+            if let Some(out) = child.stdout.take() {
+                let _ = BufReader::new(out).read_line(&mut line);
+            }
+            let number = line.trim().to_string();
+            let guard = Xvfb(child);
+            assert!(!number.is_empty() && number.chars().all(|c| c.is_ascii_digit()), "Xvfb did not start: '{line}'");
+            (Some(guard), format!(":{number}"))
+        }
+        Err(e) => match std::env::var("DISPLAY") {
+            Ok(d) if !d.is_empty() => (None, d),
+            _ => panic!(
+                "the viewer test needs a display: Xvfb could not be started ({e}) and DISPLAY is not set; \
+                 install it (Debian/Ubuntu: `apt-get install xvfb`)"
+            ),
+        },
+    }
+}
+
+fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    let sum: u64 = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y) as u64).sum();
+    sum as f64 / a.as_raw().len() as f64
+}
+
+/// Pixels in `[x0, x1) × [y0, y1)` satisfying `f`, as a fraction.
+fn fraction(img: &image::RgbaImage, (x0, x1): (u32, u32), (y0, y1): (u32, u32), f: impl Fn([u8; 3]) -> bool) -> f64 {
+    let mut n = 0usize;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            let p = img.get_pixel(x, y).0;
+            n += f([p[0], p[1], p[2]]) as usize;
+        }
+    }
+    n as f64 / ((x1 - x0) * (y1 - y0)) as f64
+}
+
+#[test]
+fn viewer_window_draws_panels_and_scene() {
+    let (_xvfb, display) = display();
+    let out = std::env::temp_dir().join(format!("eapbd-viewer-{}.png", std::process::id()));
+    let _ = std::fs::remove_file(&out);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .args(["view", "--scene", "cloth-paper", "--exit-after-frames", "120", "--screenshot"])
+        .arg(&out)
+        .args(["--width", &WIDTH.to_string(), "--height", &HEIGHT.to_string()])
+        .env("DISPLAY", &display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let start = Instant::now();
+    let status = loop {
+        if let Some(s) = child.try_wait().expect("waiting for the viewer") {
+            break s;
+        }
+        if start.elapsed() > TIMEOUT {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("the viewer did not finish 120 frames within {} s", TIMEOUT.as_secs());
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let output = child.wait_with_output().expect("viewer output");
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(status.success(), "the viewer failed: {stderr}");
+    eprintln!("{stderr}");
+
+    let img = image::open(&out).unwrap_or_else(|e| panic!("{}: {e}", out.display())).to_rgba8();
+    assert_eq!(img.dimensions(), (WIDTH, HEIGHT));
+    // Not blank: many distinct colours.
+    let distinct: std::collections::HashSet<[u8; 4]> = img.pixels().map(|p| p.0).collect();
+    assert!(distinct.len() > 200, "only {} distinct colours", distinct.len());
+    // The control panel on the left: a dark panel with light text.
+    let panel = (0, 250);
+    let dark = fraction(&img, panel, (0, HEIGHT), |p| p.iter().all(|&c| c < 70));
+    let text = fraction(&img, panel, (0, HEIGHT), |p| p.iter().all(|&c| c > 140));
+    assert!(dark > 0.5 && text > 0.01, "no control panel: {dark:.2} dark, {text:.3} light");
+    // The scene in the middle: sky and the cloth (red front or blue back, lit).
+    let middle = (320, WIDTH - 320);
+    let sky = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| r > 180 && g > 180 && b > 190);
+    let cloth = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| {
+        (r > 90 && r as u32 > g as u32 + 40 && r > b) || (b > 90 && b as u32 > r as u32 + 40)
+    });
+    assert!(sky > 0.1 && cloth > 0.03, "no scene: {sky:.2} sky, {cloth:.3} cloth");
+
+    let golden = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/viewer_cloth_paper.png");
+    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
+        std::fs::copy(&out, &golden).expect("writing the reference");
+        eprintln!("updated {}", golden.display());
+    }
+    let reference = image::open(&golden)
+        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", golden.display()))
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), img.dimensions());
+    let diff = mean_abs_diff(&img, &reference);
+    eprintln!("mean difference from the reference: {diff:.3} of 255");
+    assert!(
+        diff < MEAN_TOLERANCE,
+        "mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}",
+        out.display()
+    );
+    let _ = std::fs::remove_file(&out);
+}
