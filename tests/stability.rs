@@ -59,8 +59,9 @@ fn quick_stability_report_keeps_every_documented_pass() {
         assert_eq!(now["status"], "pass", "{key:?} is documented as passing but fails: {}", now["failures"]);
         checked += 1;
     }
-    let documented_cpu_passes =
-        docs.iter().filter(|((c, b), r)| b == "cpu" && r["status"] == "pass" && quick.contains_key(&(c.clone(), b.clone())));
+    let documented_cpu_passes = docs
+        .iter()
+        .filter(|((c, b), r)| b == "cpu" && r["status"] == "pass" && quick.contains_key(&(c.clone(), b.clone())));
     assert!(documented_cpu_passes.count() >= 8, "the quick subset covers too few documented passes");
     assert!(checked >= 8, "only {checked} documented passes were checked");
 }

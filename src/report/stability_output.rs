@@ -62,11 +62,9 @@ fn csv_row(cases: &[Case], e: &Entry) -> String {
             o.wall,
             o.failures().join("; ")
         ),
-        Entry::Skipped { case, backend, reason } => format!(
-            "{case},{},{},skipped,0,,,,,,,,,,,,,,,{reason}",
-            group_of(cases, case),
-            backend.name()
-        ),
+        Entry::Skipped { case, backend, reason } => {
+            format!("{case},{},{},skipped,0,,,,,,,,,,,,,,,{reason}", group_of(cases, case), backend.name())
+        }
     }
 }
 
@@ -75,7 +73,8 @@ fn verdict(o: &Outcome) -> String {
         return format!("**fail** (NaN at frame {})", o.nonfinite_frame.unwrap_or(0));
     }
     let edge = if o.edge_check { format!(", edge {:.3}", o.edge_ratio) } else { String::new() };
-    let inv = if o.inverted_start > 0 { format!(", inv {}→{}", o.inverted_start, o.inverted_end) } else { String::new() };
+    let inv =
+        if o.inverted_start > 0 { format!(", inv {}→{}", o.inverted_start, o.inverted_end) } else { String::new() };
     format!(
         "{} (E {:.2}, KE {:.3}, str {:.3}{edge}{inv})",
         if o.passed() { "pass" } else { "**fail**" },
