@@ -68,6 +68,15 @@ fn csv_row(cases: &[Case], e: &Entry) -> String {
     }
 }
 
+/// A ratio printed with 3 significant digits, in exponent form beyond 1000.
+struct Sig(f64);
+
+impl std::fmt::Display for Sig {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.0.abs() >= 1000.0 { write!(f, "{:.2e}", self.0) } else { write!(f, "{:.3}", self.0) }
+    }
+}
+
 fn verdict(o: &Outcome) -> String {
     if !o.finite {
         return format!("**fail** (NaN at frame {})", o.nonfinite_frame.unwrap_or(0));
@@ -76,9 +85,9 @@ fn verdict(o: &Outcome) -> String {
     let inv =
         if o.inverted_start > 0 { format!(", inv {}→{}", o.inverted_start, o.inverted_end) } else { String::new() };
     format!(
-        "{} (E {:.2}, KE {:.3}, str {:.3}{edge}{inv})",
+        "{} (E {}, KE {:.1e}, str {:.1e}{edge}{inv})",
         if o.passed() { "pass" } else { "**fail**" },
-        o.energy_ratio(),
+        Sig(o.energy_ratio()),
         o.settle_ratio(),
         o.end_stretch
     )
