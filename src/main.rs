@@ -3,7 +3,7 @@
 
 mod cli;
 
-use clap::{CommandFactory, FromArgMatches};
+use clap::{CommandFactory, FromArgMatches, Parser};
 
 fn main() -> anyhow::Result<()> {
     let matches = cli::Cli::command().get_matches_from(cli::scene_file::expand(std::env::args_os())?);

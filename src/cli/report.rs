@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
-use eapbd::report::{beam, energy};
+use eapbd::report::{beam, energy, stability};
 
 /// Arguments of `eapbd report`.
 #[derive(Args, Debug)]
@@ -22,6 +22,9 @@ pub enum Report {
     /// Static tip deflection of the cantilever (linear, StVK, Neo-Hookean) against Euler–Bernoulli,
     /// over mesh resolution and solver settings, with the static finite-element answer of each mesh.
     Beam(BeamArgs),
+    /// Hard cases (stiffness, time step, iterations, mass ratio, inversion, collapse, Poisson 0.49,
+    /// huge velocities) on the CPU and GPU backends, each with pass or fail and its figures.
+    Stability(StabilityArgs),
 }
 
 /// Arguments of `eapbd report energy`.
@@ -53,11 +56,26 @@ pub struct BeamArgs {
     pub quick: bool,
 }
 
+/// Arguments of `eapbd report stability`.
+#[derive(Args, Debug)]
+pub struct StabilityArgs {
+    /// Output directory.
+    #[arg(long, default_value = "docs/stability")]
+    pub out: PathBuf,
+    /// The cheap subset of the cases (under a minute) instead of all of them (minutes).
+    #[arg(long)]
+    pub quick: bool,
+    /// Run on the CPU only (GPU cases are listed as skipped).
+    #[arg(long)]
+    pub cpu_only: bool,
+}
+
 /// Runs the command.
 pub fn run(a: &ReportArgs) -> anyhow::Result<()> {
     match &a.report {
         Report::Energy(e) => energy(e),
         Report::Beam(b) => beam(b),
+        Report::Stability(s) => stability(s),
     }
 }
 
@@ -133,5 +151,41 @@ fn beam(a: &BeamArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     beam::write_outputs(&a.out, &opts, &results)?;
     println!("wrote {}", a.out.join("beam.md").display());
+    Ok(())
+}
+
+fn stability(a: &StabilityArgs) -> anyhow::Result<()> {
+    let cases = if a.quick { stability::quick_cases() } else { stability::cases() };
+    let gpu = if a.cpu_only { None } else { stability::open_gpu() };
+    if gpu.is_none() && !a.cpu_only {
+        eprintln!("no GPU adapter: GPU cases are skipped");
+    }
+    let bar = indicatif::ProgressBar::new(stability::runs(&cases) as u64);
+    let started = std::time::Instant::now();
+    let entries = stability::run_study(&cases, gpu.as_ref(), |e| {
+        bar.suspend(|| match e {
+            stability::Entry::Ran(o) => println!(
+                "{:24} {}  {:4}  E {:9.3e}  KE {:9.3e}  stretch {:9.3e}  edge {:.3}  inverted {}→{}  {:6.2} s{}",
+                o.case,
+                o.backend.name(),
+                if o.passed() { "pass" } else { "FAIL" },
+                o.energy_ratio(),
+                o.settle_ratio(),
+                o.end_stretch,
+                o.edge_ratio,
+                o.inverted_start,
+                o.inverted_end,
+                o.wall,
+                if o.passed() { String::new() } else { format!("  ({})", o.failures().join("; ")) }
+            ),
+            stability::Entry::Skipped { case, backend, reason } => {
+                println!("{case:24} {}  skipped ({reason})", backend.name())
+            }
+        });
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    stability::write_outputs(&a.out, &cases, &entries, a.quick)?;
+    println!("wrote {} ({:.1} s)", a.out.join("stability.md").display(), started.elapsed().as_secs_f64());
     Ok(())
 }

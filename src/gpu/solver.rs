@@ -9,7 +9,7 @@ use super::kernels::{FamilyKernels, FamilyKind, Kernels, PARTIAL_SLOTS, groups, 
 use super::layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
 use super::readback::read_buffer;
 use crate::constraints::Element;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::metrics::{FrameStats, StateView};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 use crate::solver::{EnergyAware, Method, Settings, StepConstants, jacobi};
@@ -596,6 +596,18 @@ impl GpuSolver {
             dissipated: v.iter().map(|p| p.w as f64).sum(),
             lambdas,
         })
+    }
+
+    /// Replaces the velocities (m/s, one per particle), e.g. to start a scene moving; the
+    /// dissipation ledger restarts at zero.
+    pub fn set_velocities(&mut self, v: &[Vec3]) -> Result<()> {
+        if v.len() != self.n as usize {
+            return Err(Error::Gpu(format!("{} velocities for {} particles", v.len(), self.n)));
+        }
+        let v4: Vec<Vec4> = v.iter().map(|v| v.extend(0.0)).collect();
+        self.queue.write_buffer(&self.v, 0, bytemuck::cast_slice(&v4));
+        self.ledger_valid = false;
+        Ok(())
     }
 
     /// Reads the positions back (waits for the GPU).

@@ -3,6 +3,7 @@
 //! - [`energy`]: energy-aware settings and SOR on the cloth scenes (`eapbd report energy`);
 //! - [`beam`]: the cantilever's tip deflection against Euler–Bernoulli (`eapbd report beam`),
 //!   with the closed-form references of [`cantilever`] and the static solver of [`equilibrium`];
+//! - [`stability`]: hard cases on both backends, each judged pass or fail (`eapbd report stability`);
 //! - [`plot`]: line plots written as PNG.
 
 pub mod beam;
@@ -11,3 +12,5 @@ pub mod cantilever;
 pub mod energy;
 pub mod equilibrium;
 pub mod plot;
+pub mod stability;
+mod stability_output;
