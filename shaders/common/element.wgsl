@@ -12,6 +12,34 @@ struct Proj {
     g: array<vec3<f32>, ARITY>,
 }
 
+// Bit test for NaN and infinity (WGSL has no isFinite).
+fn is_finite(a: f32) -> bool {
+    return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u;
+}
+
+// The constraint of an energy-based element with energy e (J) and energy gradient g, in the
+// current form (mirrors constraints::energy_root): the energy form projects C = E with the fixed
+// compliance; the compliant form uses C = √(2E/s), α = 1/s, ∇C = ∇E/(s C) for the stiffness scale
+// s, and skips the element (C = 0, ∇C = 0) where C vanishes or is not finite.
+fn energy_projection(e: f32, g: array<vec3<f32>, ARITY>, s: f32) -> Proj {
+    var out: Proj;
+    out.g = g;
+    if (params.form == FORM_ENERGY) {
+        out.c = e;
+        out.alpha = params.energy_compliance;
+        return out;
+    }
+    let c = sqrt(2.0 * max(e, 0.0) / s);
+    out.alpha = 1.0 / s;
+    let live = c > 1e-12 && is_finite(c);
+    out.c = select(0.0, c, live);
+    let k = 1.0 / (s * c);
+    for (var i = 0u; i < ARITY; i++) {
+        out.g[i] = select(vec3<f32>(0.0), out.g[i] * k, live);
+    }
+    return out;
+}
+
 // An element's particles and their live state (xyz position, w inverse mass).
 struct Gathered {
     idx: array<u32, ARITY>,

@@ -60,11 +60,6 @@ fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
     return membrane_energy(m, membrane_state(m, p));
 }
 
-// Bit test for NaN and infinity (WGSL has no isFinite).
-fn is_finite(a: f32) -> bool {
-    return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u;
-}
-
 fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
     let m = membranes[j];
     let st = membrane_state(m, p);
@@ -74,26 +69,6 @@ fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
     let k = m.dm_inv;
     let g1 = (pu * k.x + pv * k.z) * m.area;
     let g2 = (pu * k.y + pv * k.w) * m.area;
-    var out: Proj;
-    out.g = array<vec3<f32>, ARITY>(-(g1 + g2), g1, g2);
-    let e = membrane_energy(m, st);
-    if (params.form == FORM_ENERGY) {
-        out.c = e;
-        out.alpha = params.energy_compliance;
-        return out;
-    }
-    let scale = params.membrane_scale;
-    let c = sqrt(2.0 * max(e, 0.0) / scale);
-    out.alpha = 1.0 / scale;
-    if (c <= 1e-12 || !is_finite(c)) {
-        out.c = 0.0;
-        out.g = array<vec3<f32>, ARITY>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-        return out;
-    }
-    out.c = c;
-    let inv = 1.0 / (scale * c);
-    for (var i = 0u; i < ARITY; i++) {
-        out.g[i] = out.g[i] * inv;
-    }
-    return out;
+    let g = array<vec3<f32>, ARITY>(-(g1 + g2), g1, g2);
+    return energy_projection(membrane_energy(m, st), g, params.membrane_scale);
 }

@@ -39,11 +39,6 @@ fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
     return t.volume * material_stress(deformation(t, p)).psi;
 }
 
-// Bit test for NaN and infinity (WGSL has no isFinite).
-fn is_finite(a: f32) -> bool {
-    return (bitcast<u32>(a) & 0x7f800000u) != 0x7f800000u;
-}
-
 fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
     let t = tets[j];
     let st = material_stress(deformation(t, p));
@@ -52,26 +47,5 @@ fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
     let g1 = h[0] * v;
     let g2 = h[1] * v;
     let g3 = h[2] * v;
-    var out: Proj;
-    out.g = array<vec3<f32>, ARITY>(-(g1 + g2 + g3), g1, g2, g3);
-    let e = v * st.psi;
-    if (params.form == FORM_ENERGY) {
-        out.c = e;
-        out.alpha = params.energy_compliance;
-        return out;
-    }
-    let s = params.tet_scale;
-    let c = sqrt(2.0 * max(e, 0.0) / s);
-    out.alpha = 1.0 / s;
-    if (c <= 1e-12 || !is_finite(c)) {
-        out.c = 0.0;
-        out.g = array<vec3<f32>, ARITY>(vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0), vec3<f32>(0.0));
-        return out;
-    }
-    out.c = c;
-    let k = 1.0 / (s * c);
-    for (var i = 0u; i < ARITY; i++) {
-        out.g[i] = out.g[i] * k;
-    }
-    return out;
+    return energy_projection(v * st.psi, array<vec3<f32>, ARITY>(-(g1 + g2 + g3), g1, g2, g3), params.tet_scale);
 }
