@@ -33,7 +33,8 @@ pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unor
 /// Depth format of every target.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-fn texture(
+/// A 2D render texture of `w × h` pixels (one mip level).
+pub fn texture(
     device: &wgpu::Device,
     w: u32,
     h: u32,
@@ -42,7 +43,7 @@ fn texture(
     usage: wgpu::TextureUsages,
 ) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("offscreen"),
+        label: Some("render target"),
         size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         mip_level_count: 1,
         sample_count: samples,

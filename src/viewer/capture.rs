@@ -2,7 +2,7 @@
 //! the capture of a frame for `--screenshot`.
 
 use crate::error::{Error, Result};
-use crate::render::{DEPTH_FORMAT, FrameViews};
+use crate::render::{DEPTH_FORMAT, FrameViews, texture};
 
 /// Multisampled colour and depth of the window's size; frames resolve into the surface texture.
 #[derive(Debug)]
@@ -16,33 +16,14 @@ pub struct FrameTargets {
     depth: wgpu::TextureView,
 }
 
-fn texture(
-    device: &wgpu::Device,
-    (w, h): (u32, u32),
-    samples: u32,
-    format: wgpu::TextureFormat,
-    usage: wgpu::TextureUsages,
-) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("window target"),
-        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: samples,
-        dimension: wgpu::TextureDimension::D2,
-        format,
-        usage,
-        view_formats: &[],
-    })
-}
-
 impl FrameTargets {
     /// Targets of `width × height` pixels for a surface of `format`.
     pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat, width: u32, height: u32, samples: u32) -> Self {
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let size = (width.max(1), height.max(1));
-        let msaa =
-            (samples > 1).then(|| texture(device, size, samples, format, attach).create_view(&Default::default()));
-        let depth = texture(device, size, samples, DEPTH_FORMAT, attach).create_view(&Default::default());
+        let msaa = (samples > 1)
+            .then(|| texture(device, size.0, size.1, samples, format, attach).create_view(&Default::default()));
+        let depth = texture(device, size.0, size.1, samples, DEPTH_FORMAT, attach).create_view(&Default::default());
         FrameTargets { width, height, format, msaa, depth }
     }
 
@@ -57,7 +38,7 @@ impl FrameTargets {
     /// A texture like the surface's that can be copied out.
     pub fn capture_texture(&self, device: &wgpu::Device) -> wgpu::Texture {
         let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC;
-        texture(device, (self.width.max(1), self.height.max(1)), 1, self.format, usage)
+        texture(device, self.width.max(1), self.height.max(1), 1, self.format, usage)
     }
 }
 
