@@ -159,6 +159,10 @@ pub struct SceneArgs {
     /// Successive over-relaxation ω (every Δλ times ω; 1 = plain, 1.5 is the usual baseline).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub sor: f32,
+    /// CPU threads over the elements of a color group (0 = every core, 1 = single-threaded; small
+    /// groups always run on one thread, and the result does not depend on the count).
+    #[arg(long, default_value_t = 0)]
+    pub threads: u32,
     /// Switch gravity off.
     #[arg(long)]
     pub no_gravity: bool,
@@ -260,6 +264,7 @@ impl SceneArgs {
             energy_compliance: self.energy_compliance,
             energy_aware: self.energy_aware,
             sor: self.sor,
+            threads: self.threads,
         };
         s.validate()?;
         Ok(s)

@@ -63,7 +63,7 @@ pub fn dihedral<V: Vector>(x: &[V; 4]) -> (V::S, [V; 4]) {
 
 #[inline(always)]
 fn angle<V: Vector>(n1: V, n2: V, e_hat: V) -> V::S {
-    n1.cross(n2).dot(e_hat).atan2(n1.dot(n2))
+    n1.cross(n2).dot(e_hat).fast_atan2(n1.dot(n2))
 }
 
 /// `θ − θ₀` wrapped into `(−π, π]`.
@@ -119,5 +119,57 @@ impl Element<4> for Bend {
             grad,
             alpha: V::S::one() / <V::S as From<f32>>::from(self.k),
         }
+    }
+
+    /// [`dihedral`] written for a short dependency chain: `θ = atan2((n₁ × n₂)·e, (n₁·n₂)|e|)`
+    /// (both arguments scaled by `|e|`, so no `ê`), `|∇x₂θ|² = |e|²/|n₁|²`, `|∇x₃θ|² = |e|²/|n₂|²`,
+    /// and the divisions independent of each other.
+    #[inline(always)]
+    fn project_plain<V: Vector>(
+        &self,
+        _: &BendParams,
+        x: &mut [V],
+        w: &[V::S],
+        lambda: &mut V::S,
+        inv_h2: V::S,
+        sor: V::S,
+    ) -> bool {
+        let [i0, i1, i2, i3] = self.p.map(|i| i as usize);
+        let (x0, x1, x2, x3) = (x[i0], x[i1], x[i2], x[i3]);
+        let e = x1 - x0;
+        let (a, b) = (x2 - x0, x3 - x0);
+        let n1 = e.cross(a);
+        let n2 = b.cross(e);
+        let e2 = e.length_squared();
+        let (n1s, n2s) = (n1.length_squared(), n2.length_squared());
+        let small = tiny::<V::S>();
+        if !(e2 > small && n1s > small * e2 && n2s > small * e2) {
+            return false;
+        }
+        let el = e2.sqrt();
+        let theta = n1.cross(n2).dot(e).fast_atan2(n1.dot(n2) * el);
+        let inv_e2 = V::S::one() / e2;
+        let (q1, q2) = (el / n1s, el / n2s);
+        let (t2, t3) = (a.dot(e) * inv_e2, b.dot(e) * inv_e2);
+        let g2 = n1 * -q1;
+        let g3 = n2 * -q2;
+        let one = V::S::one();
+        let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
+        let g1 = -(g2 * t2) - g3 * t3;
+        let [w0, w1, w2, w3] = [w[i0], w[i1], w[i2], w[i3]];
+        let sum = w0 * g0.length_squared() + w1 * g1.length_squared() + (w2 * q1 + w3 * q2) * el;
+        let alpha_tilde = inv_h2 / <V::S as From<f32>>::from(self.k);
+        let denom = sum + alpha_tilde;
+        if !(denom > c(1e-20)) {
+            return false;
+        }
+        let cval = wrapped(theta, self.rest_angle.into());
+        let dl = (-cval - alpha_tilde * *lambda) / denom * sor;
+        *lambda += dl;
+        x[i0] = x0 + g0 * (w0 * dl);
+        x[i1] = x1 + g1 * (w1 * dl);
+        x[i2] = x2 + g2 * (w2 * dl);
+        x[i3] = x3 + g3 * (w3 * dl);
+        true
     }
 }

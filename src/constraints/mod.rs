@@ -87,6 +87,24 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
 
     /// The compliant-form constraint `C`, `∇C` and `α`, with `E = C² / (2α)`.
     fn compliant<V: Vector>(&self, p: &Self::Params, x: &[V; N]) -> Projection<V, N>;
+
+    /// A leaner kernel for the plain Gauss-Seidel update in the compliant form (no constraint
+    /// damping, no local energy-aware mode): `Δλ = ω (−C − α̃λ) / (Σ wᵢ|∇ᵢC|² + α̃)` with
+    /// `α̃ = α / h²` (`inv_h2 = 1/h²`), `λ += Δλ`, `xᵢ += wᵢ ∇ᵢC Δλ`, applied to `x` in place.
+    /// Returns `false`, changing nothing, where the family has no such kernel or the element is
+    /// degenerate; the solver then takes the general path, which gives the same update.
+    #[inline(always)]
+    fn project_plain<V: Vector>(
+        &self,
+        _p: &Self::Params,
+        _x: &mut [V],
+        _w: &[V::S],
+        _lambda: &mut V::S,
+        _inv_h2: V::S,
+        _sor: V::S,
+    ) -> bool {
+        false
+    }
 }
 
 /// The compliant form of an energy-based element: `C = √(2E/s)` with `α = 1/s` for the stiffness

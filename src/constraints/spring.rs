@@ -132,6 +132,43 @@ impl Element<2> for Spring {
         };
         Projection { c: cv, grad: [-g, g], alpha }
     }
+
+    /// Hookean: `C = |d| − l₀`, `∇C = ±d/|d|` so `Σ w|∇C|² = w_a + w_b`, and the correction
+    /// `Δλ/|d|` scales `d` directly (one square root, two divisions).
+    #[inline(always)]
+    fn project_plain<V: Vector>(
+        &self,
+        p: &SpringParams,
+        x: &mut [V],
+        w: &[V::S],
+        lambda: &mut V::S,
+        inv_h2: V::S,
+        sor: V::S,
+    ) -> bool {
+        if p.material != SpringMaterial::Hookean {
+            return false;
+        }
+        let (a, b) = (self.a as usize, self.b as usize);
+        let (xa, xb) = (x[a], x[b]);
+        let (wa, wb) = (w[a], w[b]);
+        let d = xb - xa;
+        let len = d.length();
+        if !(len > tiny::<V::S>()) {
+            return false;
+        }
+        let alpha_tilde = inv_h2 / <V::S as From<f32>>::from(self.k);
+        let denom = wa + wb + alpha_tilde;
+        if !(denom > c(1e-20)) {
+            return false;
+        }
+        let l0: V::S = self.rest.into();
+        let dl = (l0 - len - alpha_tilde * *lambda) / denom * sor;
+        *lambda += dl;
+        let s = dl / len;
+        x[a] = xa - d * (wa * s);
+        x[b] = xb + d * (wb * s);
+        true
+    }
 }
 
 /// Lengths below this are treated as zero (no direction).

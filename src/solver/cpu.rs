@@ -348,12 +348,54 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
 ) {
-    // Two instantiations, so the plain sweep carries no trace of the local mode.
+    // Separate instantiations, so the plain sweep carries no trace of the local mode.
     match &local {
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
+        None if k.form == Form::Compliant && k.beta == V::S::zero() => plain_sweep(f, lambda, p, k),
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
+    }
+}
+
+/// The sweep in the compliant form without constraint damping or the local mode: each element
+/// takes its family's lean kernel ([`Element::project_plain`]) and falls back to the general
+/// update where that declines.
+fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
+    f: &Family<E, N>,
+    lambda: &mut [V::S],
+    p: &mut Particles<V>,
+    k: &StepConstants<V::S>,
+) {
+    let lambda = &mut lambda[..f.elements.len()];
+    for range in &f.colors {
+        let (lo, hi) = (range.start as usize, range.end as usize);
+        for (e, l) in f.elements[lo..hi].iter().zip(&mut lambda[lo..hi]) {
+            if !e.project_plain(&f.params, &mut p.x, &p.w, l, k.inv_h2, k.sor) {
+                update(e, &f.params, l, p, k, |c_val, _| c_val);
+            }
+        }
+    }
+}
+
+/// The general update of one element: gather, project, write back.
+#[inline(always)]
+fn update<E: Element<N>, V: Vector, const N: usize>(
+    e: &E,
+    params: &E::Params,
+    l: &mut V::S,
+    p: &mut Particles<V>,
+    k: &StepConstants<V::S>,
+    adjust: impl FnOnce(V::S, V::S) -> V::S,
+) {
+    let idx = e.particles();
+    let xs = gather(&p.x, idx);
+    let ws = idx.map(|i| p.w[i as usize]);
+    if let Some((grad, d)) = solve_element(e, params, &xs, &ws, &p.x_prev, *l, k, adjust) {
+        *l += d;
+        for n in 0..N {
+            p.x[idx[n] as usize] = xs[n] + grad[n] * (ws[n] * d);
+        }
     }
 }
 

@@ -75,7 +75,16 @@ pub struct Settings {
     pub energy_aware: EnergyAware,
     /// Successive over-relaxation `ω`: every `Δλ` is scaled by it (1 = plain).
     pub sor: f32,
+    /// CPU threads for the elements of one color group: 1 runs single-threaded, 0 uses every
+    /// core. Groups smaller than [`PARALLEL_MIN_GROUP`] always run on one thread (a color barrier
+    /// costs more than they do), and the result is the same for any count: the elements of a group
+    /// share no particle. The GPU backend ignores it.
+    pub threads: u32,
 }
+
+/// Smallest color group (elements) that the CPU solver splits over threads. Below it the fork and
+/// join of a group cost more than its projections save (measured in `BENCHMARKS.md`).
+pub const PARALLEL_MIN_GROUP: usize = 4096;
 
 impl Default for Settings {
     fn default() -> Self {
@@ -91,6 +100,7 @@ impl Default for Settings {
             energy_compliance: 1.0e-5,
             energy_aware: EnergyAware::Off,
             sor: 1.0,
+            threads: 0,
         }
     }
 }
