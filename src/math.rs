@@ -53,17 +53,18 @@ impl Real for f32 {
 fn atan2_f32(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
     let (ax, ay) = (x.abs(), y.abs());
-    let (lo, hi) = (ax.min(ay), ax.max(ay));
-    if !(hi > 0.0 && hi < f32::INFINITY) {
+    let swap = ay > ax;
+    let (lo, hi) = if swap { (ax, ay) } else { (ay, ax) };
+    if !(hi > 0.0 && hi < f32::INFINITY && lo <= hi) {
         return y.atan2(x);
     }
     let big = lo > 0.414_213_57 * hi;
     let t = if big { lo - hi } else { lo } / if big { lo + hi } else { hi };
     let base = if big { FRAC_PI_4 } else { 0.0 };
     let z = t * t;
-    let poly = (((8.053_744_5e-2 * z - 1.387_768_6e-1) * z + 1.997_771_1e-1) * z - 3.333_294_9e-1) * z;
+    let poly = (((8.053_744_5e-2 * z - 1.387_768_6e-1) * z + 1.997_771_1e-1) * z - 3.333_295e-1) * z;
     let r = base + (t + t * poly);
-    let r = if ay > ax { FRAC_PI_2 - r } else { r };
+    let r = if swap { FRAC_PI_2 - r } else { r };
     let r = if x < 0.0 { PI - r } else { r };
     r.copysign(y)
 }

@@ -1,6 +1,9 @@
 //! The plain XPBD solver (`--energy-aware off`, no SOR) must stay bit-for-bit what it was before
 //! the energy-aware iteration existed. The checksums below were taken from the solver at that
 //! point; a change to them is a change of the plain solver's results and must be deliberate.
+//!
+//! Retaken once, deliberately: the lean spring and bending kernels and the `f32` `atan2` of the
+//! bending angle round differently (same update within rounding, `tests/kernels.rs`).
 
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Method, Settings};
@@ -42,4 +45,4 @@ fn plain_solver_results_are_unchanged() {
     assert_eq!(got, EXPECTED);
 }
 
-const EXPECTED: [u64; 3] = [0x9a2c6a955ca79fb1, 0xb40daf1ad8dcbb99, 0xe1de403ac8e4c08a];
+const EXPECTED: [u64; 3] = [0x121ec92b30057a37, 0x8dab3227e4f0c11c, 0xcab9cac3af98f480];

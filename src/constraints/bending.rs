@@ -15,7 +15,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::spring::tiny;
-use super::{Element, Projection};
+use super::{Element, Positions, Projection, simd};
 use crate::math::prelude::*;
 
 /// Parameters shared by all bending elements (none yet: stiffness is per element).
@@ -125,17 +125,17 @@ impl Element<4> for Bend {
     /// (both arguments scaled by `|e|`, so no `ê`), `|∇x₂θ|² = |e|²/|n₁|²`, `|∇x₃θ|² = |e|²/|n₂|²`,
     /// and the divisions independent of each other.
     #[inline(always)]
-    fn project_plain<V: Vector>(
+    fn project_plain<V: Vector, P: Positions<V> + ?Sized>(
         &self,
         _: &BendParams,
-        x: &mut [V],
+        x: &mut P,
         w: &[V::S],
         lambda: &mut V::S,
         inv_h2: V::S,
         sor: V::S,
     ) -> bool {
-        let [i0, i1, i2, i3] = self.p.map(|i| i as usize);
-        let (x0, x1, x2, x3) = (x[i0], x[i1], x[i2], x[i3]);
+        let [i0, i1, i2, i3] = [self.p[0] as usize, self.p[1] as usize, self.p[2] as usize, self.p[3] as usize];
+        let (x0, x1, x2, x3) = (x.get(i0), x.get(i1), x.get(i2), x.get(i3));
         let e = x1 - x0;
         let (a, b) = (x2 - x0, x3 - x0);
         let n1 = e.cross(a);
@@ -160,16 +160,82 @@ impl Element<4> for Bend {
         let sum = w0 * g0.length_squared() + w1 * g1.length_squared() + (w2 * q1 + w3 * q2) * el;
         let alpha_tilde = inv_h2 / <V::S as From<f32>>::from(self.k);
         let denom = sum + alpha_tilde;
-        if !(denom > c(1e-20)) {
+        if denom.is_nan() || denom <= c(1e-20) {
             return false;
         }
         let cval = wrapped(theta, self.rest_angle.into());
         let dl = (-cval - alpha_tilde * *lambda) / denom * sor;
         *lambda += dl;
-        x[i0] = x0 + g0 * (w0 * dl);
-        x[i1] = x1 + g1 * (w1 * dl);
-        x[i2] = x2 + g2 * (w2 * dl);
-        x[i3] = x3 + g3 * (w3 * dl);
+        x.set(i0, x0 + g0 * (w0 * dl));
+        x.set(i1, x1 + g1 * (w1 * dl));
+        x.set(i2, x2 + g2 * (w2 * dl));
+        x.set(i3, x3 + g3 * (w3 * dl));
         true
+    }
+
+    /// [`Bend::project_plain`] lane by lane, operation for operation.
+    const PLAIN_X4: bool = true;
+
+    #[inline(always)]
+    fn project_plain_x4<V: Vector, P: Positions<V> + ?Sized>(
+        elems: &[Self],
+        _: &BendParams,
+        x: &mut P,
+        w: &[V::S],
+        lambda: &mut [V::S],
+        inv_h2: V::S,
+        sor: V::S,
+    ) -> u32 {
+        use wide::f32x4;
+        // Arrays written out: `map` and `from_fn` are not always inlined in a body this large.
+        let el4 = [elems[0], elems[1], elems[2], elems[3]];
+        let slot = |n: usize| [el4[0].p[n] as usize, el4[1].p[n] as usize, el4[2].p[n] as usize, el4[3].p[n] as usize];
+        let idx = [slot(0), slot(1), slot(2), slot(3)];
+        let xs = [simd::gather(x, idx[0]), simd::gather(x, idx[1]), simd::gather(x, idx[2]), simd::gather(x, idx[3])];
+        let wl = |i: [usize; 4]| simd::lanes([w[i[0]], w[i[1]], w[i[2]], w[i[3]]]);
+        let ws = [wl(idx[0]), wl(idx[1]), wl(idx[2]), wl(idx[3])];
+        let e = xs[1] - xs[0];
+        let (a, b) = (xs[2] - xs[0], xs[3] - xs[0]);
+        let n1 = e.cross(a);
+        let n2 = b.cross(e);
+        let e2 = e.length_squared();
+        let (n1s, n2s) = (n1.length_squared(), n2.length_squared());
+        let small = f32x4::splat(1e-12);
+        let mut ok = e2.simd_gt(small) & n1s.simd_gt(small * e2) & n2s.simd_gt(small * e2);
+        let el = e2.sqrt();
+        let (theta, covered) = simd::atan2(n1.cross(n2).dot(e), n1.dot(n2) * el);
+        ok &= covered;
+        let one = f32x4::ONE;
+        let inv_e2 = one / e2;
+        let (q1, q2) = (el / n1s, el / n2s);
+        let (t2, t3) = (a.dot(e) * inv_e2, b.dot(e) * inv_e2);
+        let g2 = n1 * -q1;
+        let g3 = n2 * -q2;
+        let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
+        let g1 = -(g2 * t2) - g3 * t3;
+        let sum = ws[0] * g0.length_squared() + ws[1] * g1.length_squared() + (ws[2] * q1 + ws[3] * q2) * el;
+        let alpha_tilde = f32x4::splat(inv_h2.to_f64() as f32) / f32x4::new([el4[0].k, el4[1].k, el4[2].k, el4[3].k]);
+        let denom = sum + alpha_tilde;
+        ok &= denom.simd_gt(f32x4::splat(1e-20));
+        let pi = f32x4::splat(std::f64::consts::PI as f32);
+        let two_pi = pi + pi;
+        let d = theta - f32x4::new([el4[0].rest_angle, el4[1].rest_angle, el4[2].rest_angle, el4[3].rest_angle]);
+        let d = d.simd_gt(pi).select(d - two_pi, d);
+        let cval = d.simd_le(-pi).select(d + two_pi, d);
+        let lam = simd::lanes([lambda[0], lambda[1], lambda[2], lambda[3]]);
+        let sor = f32x4::splat(sor.to_f64() as f32);
+        let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, f32x4::ZERO);
+        let mask = ok.to_bitmask();
+        let new_lam: [V::S; 4] = simd::unlanes(lam + dl);
+        for l in 0..4 {
+            if mask & (1 << l) != 0 {
+                lambda[l] = new_lam[l];
+            }
+        }
+        simd::scatter(x, idx[0], xs[0] + g0 * (ws[0] * dl), mask);
+        simd::scatter(x, idx[1], xs[1] + g1 * (ws[1] * dl), mask);
+        simd::scatter(x, idx[2], xs[2] + g2 * (ws[2] * dl), mask);
+        simd::scatter(x, idx[3], xs[3] + g3 * (ws[3] * dl), mask);
+        !mask & 0b1111
     }
 }

@@ -6,6 +6,7 @@
 
 pub mod bending;
 pub mod membrane;
+pub(crate) mod simd;
 pub mod spring;
 pub mod tet;
 
@@ -94,16 +95,55 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
     /// Returns `false`, changing nothing, where the family has no such kernel or the element is
     /// degenerate; the solver then takes the general path, which gives the same update.
     #[inline(always)]
-    fn project_plain<V: Vector>(
+    fn project_plain<V: Vector, P: Positions<V> + ?Sized>(
         &self,
         _p: &Self::Params,
-        _x: &mut [V],
+        _x: &mut P,
         _w: &[V::S],
         _lambda: &mut V::S,
         _inv_h2: V::S,
         _sor: V::S,
     ) -> bool {
         false
+    }
+
+    /// `true` where the family overrides [`Element::project_plain_x4`].
+    const PLAIN_X4: bool = false;
+
+    /// [`Element::project_plain`] for four elements of one color group at once, in 4-wide SIMD
+    /// (called for `f32` only: `elems` and `lambda` hold exactly four). Returns a mask of the
+    /// lanes it declined (bit `l` set: element `l` left unchanged for the scalar path).
+    #[inline(always)]
+    fn project_plain_x4<V: Vector, P: Positions<V> + ?Sized>(
+        _elems: &[Self],
+        _p: &Self::Params,
+        _x: &mut P,
+        _w: &[V::S],
+        _lambda: &mut [V::S],
+        _inv_h2: V::S,
+        _sor: V::S,
+    ) -> u32 {
+        0b1111
+    }
+}
+
+/// Read and write access to particle positions for the in-place kernels: a plain slice, or the
+/// solver's view shared by the threads of one color group.
+pub trait Positions<V> {
+    /// Position of particle `i`.
+    fn get(&self, i: usize) -> V;
+    /// Moves particle `i` to `v`.
+    fn set(&mut self, i: usize, v: V);
+}
+
+impl<V: Copy> Positions<V> for [V] {
+    #[inline(always)]
+    fn get(&self, i: usize) -> V {
+        self[i]
+    }
+    #[inline(always)]
+    fn set(&mut self, i: usize, v: V) {
+        self[i] = v;
     }
 }
 

@@ -34,6 +34,26 @@ impl<E: Element<N>, const N: usize> Family<E, N> {
         }
     }
 
+    /// `true` when no two elements of a color group share a particle (what lets the threads of a
+    /// group write positions without ordering). `Family::new` guarantees it; a family assembled
+    /// by hand is checked before the CPU solver splits its groups. O(elements).
+    pub fn groups_disjoint(&self, n_particles: usize) -> bool {
+        let mut owner = vec![u32::MAX; n_particles];
+        for range in &self.colors {
+            let Some(group) = self.elements.get(range.start as usize..range.end as usize) else { return false };
+            for (j, e) in group.iter().enumerate() {
+                let j = range.start + j as u32;
+                for p in e.particles() {
+                    match owner.get_mut(p as usize) {
+                        Some(o) if *o == u32::MAX || *o < range.start || *o == j => *o = j,
+                        _ => return false,
+                    }
+                }
+            }
+        }
+        true
+    }
+
     /// Number of elements.
     pub fn len(&self) -> usize {
         self.elements.len()

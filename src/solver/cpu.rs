@@ -1,8 +1,13 @@
 //! The CPU reference solver, generic over precision (`f32` at run time, `f64` for references).
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
-use crate::constraints::{Element, Form, gather};
+use rayon::prelude::*;
+
+use crate::constraints::simd::is_f32;
+use crate::constraints::{Element, Form, Positions, gather};
 use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
@@ -10,8 +15,9 @@ use crate::scene::{FAMILY_COUNT, Family, Scene};
 use super::contacts::{project_contacts, project_particle};
 use super::energy::{EnergyAware, global_scale, local_constraint};
 use super::jacobi;
+use super::shared::SharedPositions;
 use super::xpbd::{StepConstants, solve_element};
-use super::{Method, Particles, Settings};
+use super::{Method, PARALLEL_MIN_GROUP, Particles, Settings};
 
 /// Per-family solver state: one multiplier per constraint, Jacobi's per-constraint scale, and
 /// the local mode's energy at the start of the substep.
@@ -20,6 +26,8 @@ struct FamilyState<S> {
     lambda: Vec<S>,
     jacobi_scale: Vec<S>,
     energy_start: Vec<S>,
+    /// The family's color groups share no particle, so threads may split them.
+    disjoint: bool,
 }
 
 /// The local mode's snapshots of the positions at the start of the current and the previous
@@ -66,13 +74,21 @@ pub struct CpuSolver<V: Vector> {
     rest_com: Vec3,
     /// Constants of the last substep run (for residuals).
     last: Option<StepConstants<V::S>>,
+    /// Split large color groups over threads (`Settings::threads` ≠ 1).
+    parallel: bool,
+    /// The pool of an explicit thread count above one (built on first use).
+    pool: Option<(u32, Arc<rayon::ThreadPool>)>,
 }
 
 impl<V: Vector> CpuSolver<V> {
     /// A solver at the scene's initial state.
     pub fn new(scene: Scene) -> Self {
         let mut fam: [FamilyState<V::S>; FAMILY_COUNT] = Default::default();
-        crate::for_each_family!(scene, |i, f| fam[i].lambda = vec![V::S::zero(); f.len()]);
+        let n = scene.num_particles();
+        crate::for_each_family!(scene, |i, f| {
+            fam[i].lambda = vec![V::S::zero(); f.len()];
+            fam[i].disjoint = f.groups_disjoint(n);
+        });
         CpuSolver {
             particles: Particles::from_scene(&scene),
             fam,
@@ -82,6 +98,8 @@ impl<V: Vector> CpuSolver<V> {
             ledger: EnergyLedger { last_scale: 1.0, ..EnergyLedger::default() },
             rest_com: scene.rest_center_of_mass(),
             last: None,
+            parallel: false,
+            pool: None,
             scene,
         }
     }
@@ -109,10 +127,31 @@ impl<V: Vector> CpuSolver<V> {
         if s.energy_aware != EnergyAware::Global {
             self.ledger.carried = None;
         }
-        for _ in 0..s.substeps {
-            self.substep(s, &k);
+        self.parallel = s.threads != 1;
+        match self.thread_pool(s.threads) {
+            Some(pool) => pool.install(|| self.substeps(s, &k)),
+            None => self.substeps(s, &k),
         }
         self.last = Some(k);
+    }
+
+    /// The pool for an explicit thread count above one; `None` runs on the calling thread and,
+    /// for groups split over threads, on rayon's global pool (every core).
+    fn thread_pool(&mut self, threads: u32) -> Option<Arc<rayon::ThreadPool>> {
+        if threads <= 1 {
+            return None;
+        }
+        if self.pool.as_ref().is_none_or(|(n, _)| *n != threads) {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads as usize).build().ok()?;
+            self.pool = Some((threads, Arc::new(pool)));
+        }
+        self.pool.as_ref().map(|(_, p)| p.clone())
+    }
+
+    fn substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+        for _ in 0..s.substeps {
+            self.substep(s, k);
+        }
     }
 
     /// Kinetic + gravitational + elastic energy of the current state (J).
@@ -153,7 +192,8 @@ impl<V: Vector> CpuSolver<V> {
                     crate::for_each_family!(self.scene, |i, f| {
                         let st = &mut self.fam[i];
                         let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-                        gauss_seidel(f, &mut st.lambda, &mut self.particles, k, ctx)
+                        let parallel = self.parallel && st.disjoint;
+                        gauss_seidel(f, &mut st.lambda, &mut self.particles, k, ctx, parallel)
                     });
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
@@ -224,11 +264,14 @@ impl<V: Vector> CpuSolver<V> {
             if p.w[i] > V::S::zero() {
                 let before = p.x[i];
                 p.x[i] = project_particle(&self.scene, before, p.x_prev[i]);
-                let m = 1.0 / p.w[i].to_f64();
-                let vb = (before.to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
-                let va = (p.x[i].to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
-                work += 0.5 * m * (va.length_squared() - vb.length_squared());
-                work += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
+                // Both terms vanish (exactly) for a particle the pass left alone without damping.
+                if p.x[i] != before || keep != V::S::one() {
+                    let m = 1.0 / p.w[i].to_f64();
+                    let vb = (before.to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
+                    let va = (p.x[i].to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
+                    work += 0.5 * m * (va.length_squared() - vb.length_squared());
+                    work += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
+                }
                 p.v[i] = (p.x[i] - p.x_prev[i]) * (inv_h * keep);
             } else {
                 p.v[i] = V::ZERO;
@@ -347,54 +390,100 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
+    parallel: bool,
 ) {
     // Separate instantiations, so the plain sweep carries no trace of the local mode.
     match &local {
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
-        None if k.form == Form::Compliant && k.beta == V::S::zero() => plain_sweep(f, lambda, p, k),
+        None if k.form == Form::Compliant && k.beta == V::S::zero() => plain_sweep(f, lambda, p, k, parallel),
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }
 
 /// The sweep in the compliant form without constraint damping or the local mode: each element
-/// takes its family's lean kernel ([`Element::project_plain`]) and falls back to the general
-/// update where that declines.
+/// takes its family's lean kernel ([`Element::project_plain`], four at a time where the family has
+/// a SIMD kernel and the precision is `f32`) and falls back to the general update where that
+/// declines. Groups of at least [`PARALLEL_MIN_GROUP`] elements are split over threads when
+/// `parallel` (the family's groups were checked to share no particle).
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
+    parallel: bool,
 ) {
     let lambda = &mut lambda[..f.elements.len()];
+    let (x_prev, w) = (&p.x_prev[..], &p.w[..]);
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
-        for (e, l) in f.elements[lo..hi].iter().zip(&mut lambda[lo..hi]) {
-            if !e.project_plain(&f.params, &mut p.x, &p.w, l, k.inv_h2, k.sor) {
-                update(e, &f.params, l, p, k, |c_val, _| c_val);
-            }
+        let (es, ls) = (&f.elements[lo..hi], &mut lambda[lo..hi]);
+        if parallel && es.len() >= PARALLEL_MIN_GROUP {
+            let shared = SharedPositions::new(&mut p.x);
+            let chunk = (es.len() / (4 * rayon::current_num_threads())).next_multiple_of(4).max(256);
+            es.par_chunks(chunk).zip(ls.par_chunks_mut(chunk)).for_each(|(es, ls)| {
+                let mut x = shared;
+                plain_chunk(es, ls, &f.params, &mut x, x_prev, w, k);
+            });
+        } else {
+            plain_chunk(es, ls, &f.params, &mut p.x[..], x_prev, w, k);
         }
+    }
+}
+
+/// [`plain_sweep`] over consecutive elements of one color group.
+#[inline(always)]
+fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
+    es: &[E],
+    ls: &mut [V::S],
+    params: &E::Params,
+    x: &mut P,
+    x_prev: &[V],
+    w: &[V::S],
+    k: &StepConstants<V::S>,
+) {
+    let one = |e: &E, l: &mut V::S, x: &mut P| {
+        if !e.project_plain(params, x, w, l, k.inv_h2, k.sor) {
+            update(e, params, l, x, x_prev, w, k, |c_val, _| c_val);
+        }
+    };
+    let mut j = 0;
+    if E::PLAIN_X4 && is_f32::<V::S>() {
+        while j + 4 <= es.len() {
+            let declined = E::project_plain_x4(&es[j..j + 4], params, x, w, &mut ls[j..j + 4], k.inv_h2, k.sor);
+            for l in 0..4 {
+                if declined & (1 << l) != 0 {
+                    one(&es[j + l], &mut ls[j + l], x);
+                }
+            }
+            j += 4;
+        }
+    }
+    for (e, l) in es[j..].iter().zip(&mut ls[j..]) {
+        one(e, l, x);
     }
 }
 
 /// The general update of one element: gather, project, write back.
 #[inline(always)]
-fn update<E: Element<N>, V: Vector, const N: usize>(
+fn update<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
     e: &E,
     params: &E::Params,
     l: &mut V::S,
-    p: &mut Particles<V>,
+    x: &mut P,
+    x_prev: &[V],
+    w: &[V::S],
     k: &StepConstants<V::S>,
     adjust: impl FnOnce(V::S, V::S) -> V::S,
 ) {
     let idx = e.particles();
-    let xs = gather(&p.x, idx);
-    let ws = idx.map(|i| p.w[i as usize]);
-    if let Some((grad, d)) = solve_element(e, params, &xs, &ws, &p.x_prev, *l, k, adjust) {
+    let xs = idx.map(|i| x.get(i as usize));
+    let ws = idx.map(|i| w[i as usize]);
+    if let Some((grad, d)) = solve_element(e, params, &xs, &ws, x_prev, *l, k, adjust) {
         *l += d;
         for n in 0..N {
-            p.x[idx[n] as usize] = xs[n] + grad[n] * (ws[n] * d);
+            x.set(idx[n] as usize, xs[n] + grad[n] * (ws[n] * d));
         }
     }
 }

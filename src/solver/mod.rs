@@ -15,6 +15,7 @@ mod cpu;
 pub mod energy;
 pub mod jacobi;
 mod particles;
+mod shared;
 mod xpbd;
 
 pub use cpu::CpuSolver;
@@ -84,7 +85,7 @@ pub struct Settings {
 
 /// Smallest color group (elements) that the CPU solver splits over threads. Below it the fork and
 /// join of a group cost more than its projections save (measured in `BENCHMARKS.md`).
-pub const PARALLEL_MIN_GROUP: usize = 4096;
+pub const PARALLEL_MIN_GROUP: usize = 1000;
 
 impl Default for Settings {
     fn default() -> Self {

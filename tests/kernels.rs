@@ -1,0 +1,158 @@
+//! The lean in-place kernels of the CPU solver (scalar and 4-wide SIMD) against the general XPBD
+//! update, the fast `f32` `atan2` against the library, and threads against one thread.
+
+use eapbd::constraints::{Bend, BendParams, Element, Spring, SpringMaterial, SpringParams};
+use eapbd::math::Real;
+use eapbd::scene::{self, SceneOptions};
+use eapbd::solver::{CpuSolver, Settings, delta_lambda};
+use glam::Vec3;
+use rand::rngs::SmallRng;
+use rand::{Rng, SeedableRng};
+
+const INV_H2: f32 = 3600.0 * 900.0;
+
+/// The general update (`Element::compliant` and `delta_lambda`) of element `e` on `x`.
+fn general<E: Element<N>, const N: usize>(e: &E, p: &E::Params, x: &mut [Vec3], w: &[f32], lambda: &mut f32) {
+    let idx = e.particles().map(|i| i as usize);
+    let xs = idx.map(|i| x[i]);
+    let proj = e.compliant(p, &xs);
+    let sum: f32 = (0..N).map(|n| w[idx[n]] * proj.grad[n].length_squared()).sum();
+    if let Some(d) = delta_lambda(proj.c, sum, proj.alpha * INV_H2, *lambda, 0.0, 0.0) {
+        *lambda += d;
+        for n in 0..N {
+            x[idx[n]] = xs[n] + proj.grad[n] * (w[idx[n]] * d);
+        }
+    }
+}
+
+fn jitter(rng: &mut SmallRng, v: Vec3, s: f32) -> Vec3 {
+    v + Vec3::new(rng.random_range(-s..s), rng.random_range(-s..s), rng.random_range(-s..s))
+}
+
+/// Four elements on 4 × `N` distinct particles, positions from `place`, random inverse masses
+/// (one in five pinned) and multipliers.
+struct Case {
+    x: Vec<Vec3>,
+    w: Vec<f32>,
+    lambda: [f32; 4],
+}
+
+fn case(rng: &mut SmallRng, n: usize, place: impl Fn(&mut SmallRng, usize) -> Vec3) -> Case {
+    Case {
+        x: (0..4 * n).map(|i| place(rng, i % n)).collect(),
+        w: (0..4 * n).map(|_| if rng.random_range(0..5) == 0 { 0.0 } else { rng.random_range(1.0..5000.0) }).collect(),
+        lambda: std::array::from_fn(|_| rng.random_range(-1e-4..1e-4)),
+    }
+}
+
+/// Runs the general update, the scalar kernel and the SIMD kernel (where the family has one) on
+/// the same four elements: the scalar kernel agrees with the general update to `rel` of the
+/// correction, and the SIMD lanes equal the scalar kernel bit for bit.
+fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; 4], p: &E::Params, c: &Case, rel: f32) {
+    let (mut xg, mut xs, mut xv) = (c.x.clone(), c.x.clone(), c.x.clone());
+    let (mut lg, mut ls, mut lv) = (c.lambda, c.lambda, c.lambda);
+    let declined = if E::PLAIN_X4 { E::project_plain_x4(es, p, &mut xv[..], &c.w, &mut lv, INV_H2, 1.0) } else { 0 };
+    for (l, e) in es.iter().enumerate() {
+        general(e, p, &mut xg, &c.w, &mut lg[l]);
+        let done = e.project_plain(p, &mut xs[..], &c.w, &mut ls[l], INV_H2, 1.0);
+        if !E::PLAIN_X4 {
+            e.project_plain(p, &mut xv[..], &c.w, &mut lv[l], INV_H2, 1.0);
+        }
+        assert_eq!(done, declined & (1 << l) == 0, "{what}: SIMD lane {l} and scalar kernel disagree on declining");
+        if !done {
+            general(e, p, &mut xs, &c.w, &mut ls[l]);
+            general(e, p, &mut xv, &c.w, &mut lv[l]);
+        }
+    }
+    assert_eq!(xs, xv, "{what}: SIMD positions differ from the scalar kernel");
+    assert_eq!(ls, lv, "{what}: SIMD multipliers differ from the scalar kernel");
+    for i in 0..c.x.len() {
+        let moved = (xg[i] - c.x[i]).length().max(1e-9);
+        let err = (xs[i] - xg[i]).length();
+        assert!(err <= rel * moved + 1e-7, "{what}: particle {i} off by {err:e} of a move of {moved:e}");
+    }
+    for l in 0..4 {
+        assert!(
+            (ls[l] - lg[l]).abs() <= rel * (lg[l] - c.lambda[l]).abs() + 1e-9,
+            "{what}: λ {l}: {} vs {}",
+            ls[l],
+            lg[l]
+        );
+    }
+}
+
+#[test]
+fn spring_kernels_match_the_general_update() {
+    let mut rng = SmallRng::seed_from_u64(1);
+    let p = SpringParams { material: SpringMaterial::Hookean };
+    for _ in 0..500 {
+        let c = case(&mut rng, 2, |r, _| jitter(r, Vec3::ZERO, 0.05));
+        let es = std::array::from_fn(|l| {
+            Spring::new(2 * l as u32, 2 * l as u32 + 1, rng.random_range(0.01..0.05), 1e6, SpringMaterial::Hookean)
+        });
+        check("spring", &es, &p, &c, 1e-4);
+    }
+}
+
+#[test]
+fn bending_kernels_match_the_general_update() {
+    let mut rng = SmallRng::seed_from_u64(2);
+    let rest = [Vec3::ZERO, Vec3::new(0.02, 0.0, 0.0), Vec3::new(0.01, 0.0, 0.015), Vec3::new(0.01, 0.0, -0.015)];
+    for trial in 0..2000 {
+        // Folds of every size, wings on either side, and a few degenerate (collapsed) wings.
+        let fold = if trial % 4 == 0 { 0.03 } else { 0.004 };
+        let mut c = case(&mut rng, 4, |r, n| jitter(r, rest[n], fold));
+        if trial % 97 == 0 {
+            c.x[2] = c.x[0];
+        }
+        let es = std::array::from_fn(|l| {
+            let b = 4 * l as u32;
+            Bend { p: [b, b + 1, b + 2, b + 3], rest_angle: rng.random_range(-3.1..3.1), k: 1e-3 }
+        });
+        check("bending", &es, &BendParams, &c, 2e-3);
+    }
+}
+
+#[test]
+fn fast_atan2_matches_the_library() {
+    let mut rng = SmallRng::seed_from_u64(3);
+    let mut worst = 0.0f32;
+    for i in 0..200_000 {
+        let scale = 10f32.powi(rng.random_range(-6..6));
+        let (y, x) = (rng.random_range(-1.0..1.0) * scale, rng.random_range(-1.0..1.0) * scale);
+        let (y, x) = if i % 50 == 0 {
+            (y, 0.0)
+        } else if i % 51 == 0 {
+            (0.0, x)
+        } else {
+            (y, x)
+        };
+        let (got, want) = (y.fast_atan2(x), y.atan2(x));
+        let err = (got - want).abs();
+        worst = worst.max(err / want.abs().max(1e-30));
+        assert!(err <= 2.0 * f32::EPSILON * want.abs().max(f32::MIN_POSITIVE), "atan2({y}, {x}): {got} vs {want}");
+    }
+    for (y, x) in [(0.0f32, 0.0f32), (-0.0, 0.0), (0.0, -0.0), (-0.0, -0.0), (1.0, f32::INFINITY), (f32::NAN, 1.0)] {
+        let (got, want) = (y.fast_atan2(x), y.atan2(x));
+        assert!(got.to_bits() == want.to_bits() || (got.is_nan() && want.is_nan()), "atan2({y}, {x}): {got} vs {want}");
+    }
+    println!("largest relative error: {worst:e}");
+}
+
+#[test]
+fn threads_give_the_same_result_as_one_thread() {
+    // 128 × 128 cloth: spring groups of about 8,000 elements, above the parallel threshold.
+    let opts = SceneOptions { resolution: Some(128), stiffness: 1e5, ..SceneOptions::default() };
+    let run = |threads| {
+        let mut s = CpuSolver::<Vec3>::new(scene::build("cloth", &opts).unwrap());
+        let settings = Settings { iterations: 10, threads, ..Settings::default() };
+        for _ in 0..10 {
+            s.step_frame(&settings);
+        }
+        s.particles.x
+    };
+    let one = run(1);
+    assert_eq!(one, run(0), "every core");
+    assert_eq!(one, run(2), "two threads");
+    assert_eq!(one, run(3), "three threads");
+}
