@@ -30,7 +30,8 @@ pub struct Cli {
 pub enum Command {
     /// Open the interactive viewer (a window with controls, statistics and plots).
     View(view::ViewArgs),
-    /// Run a scene on the CPU solver and print per-frame residual, stretch and energies.
+    /// Run a scene headless (CPU solver unless --backend gpu) and print per-frame residual,
+    /// stretch and energies.
     Simulate(simulate::SimulateArgs),
     /// Simulate headless and write frames as PNG images.
     Render(render::RenderArgs),
@@ -92,14 +93,16 @@ pub struct SceneArgs {
     /// volume bodies: lattice cells along the longest side (default 16).
     #[arg(long)]
     pub lattice: Option<u32>,
-    /// Particles per side of a cloth (default 41).
+    /// Particles per side of a cloth (default 41); cells along the beam (10) or along each side
+    /// of the cube (4).
     #[arg(long)]
     pub resolution: Option<u32>,
     /// Small-strain spring stiffness k_s (N/m).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0e4)]
     pub stiffness: f32,
     /// Material: hookean, stvk-spring or aniso-cloth (cloth scenes); linear, stvk, neo-hookean,
-    /// mooney-rivlin or arruda-boyce (beam, cube; default neo-hookean).
+    /// mooney-rivlin or arruda-boyce (beam, cube and the bunny's tetrahedral bodies; default
+    /// neo-hookean). The bunny's springs body takes hookean or stvk-spring.
     #[arg(long, value_parser = material)]
     pub material: Option<MaterialArg>,
     /// Young's modulus of the volumetric scenes (Pa).
@@ -121,8 +124,8 @@ pub struct SceneArgs {
     /// aniso-cloth: shear modulus G (N/m; default √(E_u E_v)/(2(1 + ν))).
     #[arg(long, allow_negative_numbers = true)]
     pub shear: Option<f64>,
-    /// Dihedral bending stiffness k_b (N·m/rad); 0 disables. Default: 1e-3 for cloth and
-    /// cloth-sphere, 0 for cloth-paper.
+    /// Dihedral bending stiffness k_b (N·m/rad); 0 disables. Default: 1e-3 for cloth,
+    /// cloth-sphere, cloth-free and the bunny's springs body, 0 for cloth-paper.
     #[arg(long, allow_negative_numbers = true)]
     pub bending_stiffness: Option<f32>,
     /// Frame time step (s).

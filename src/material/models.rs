@@ -19,7 +19,7 @@
 //!
 //! Inversion handling for all but the linear model: the energy is a symmetric function `Ψ̂(σ)`
 //! of the signed singular values of `F` (negative smallest one when `det F < 0`, see
-//! [`super::svd`]); below `σ_min = 0.15` it is continued by its first-order Taylor expansion from
+//! [`mod@super::svd`]); below `σ_min = 0.15` it is continued by its first-order Taylor expansion from
 //! the clamped values `σ̂ = max(σ, σ_min)` (Stomakhin et al. 2012):
 //! `Ψ(σ) = Ψ̂(σ̂) + ∇Ψ̂(σ̂)·(σ − σ̂)`, which is C¹, keeps energy and stress consistent, and gives
 //! an inverted element a restoring force. `P = U diag(∂Ψ/∂σ) Vᵀ`.

@@ -121,7 +121,8 @@ impl Embedding {
 /// What a user may choose about a scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneOptions {
-    /// Particles per side of a cloth; `None` takes the scene's own (41).
+    /// Particles per side of a cloth, cells along the beam or along each side of the cube;
+    /// `None` takes the scene's own (41, 10, 4).
     pub resolution: Option<u32>,
     /// Small-strain spring stiffness `k_s` (N/m, SPEC §3).
     pub stiffness: f32,

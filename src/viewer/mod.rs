@@ -4,7 +4,7 @@
 //!
 //! - [`state`]: what the widgets edit (plain data);
 //! - [`session`]: the simulation and its drawing without a window (tests drive it directly);
-//! - [`ui`]: the egui panels; [`app`]: the window and event loop.
+//! - [`ui`]: the egui panels; [`run`]: the window and its event loop.
 
 mod app;
 mod capture;
