@@ -242,3 +242,16 @@ fn viewer_without_a_display_points_to_the_headless_commands() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("--exit-after-frames"), "{err}");
 }
+
+#[test]
+fn an_adapter_name_that_matches_nothing_is_an_error_not_a_panic() {
+    let out = Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .args(["simulate", "--scene", "cloth", "--resolution", "5", "--frames", "1", "--backend", "gpu"])
+        .env("WGPU_ADAPTER_NAME", "no-such-adapter-anywhere")
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("WGPU_ADAPTER_NAME") && err.contains("matches none"), "{err}");
+}

@@ -21,8 +21,7 @@ impl GpuContext {
     /// `mesa-vulkan-drivers`) provides a Vulkan device on the CPU.
     pub fn new() -> Result<Self> {
         let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None))
-            .map_err(|e| Error::NoAdapter(e.to_string()))?;
+        let adapter = pollster::block_on(adapter_from_env_or_default(&instance))?;
         Self::with_adapter(instance, adapter)
     }
 
@@ -58,4 +57,28 @@ impl GpuContext {
             .map(|_| ())
             .map_err(|e| Error::Gpu(format!("waiting for the device: {e}")))
     }
+}
+
+/// The adapter named by `WGPU_ADAPTER_NAME` (a case-insensitive part of its name), else the
+/// default one. wgpu's own helper panics when the name matches nothing; this names the adapters
+/// there are instead.
+async fn adapter_from_env_or_default(instance: &wgpu::Instance) -> Result<wgpu::Adapter> {
+    if let Ok(wanted) = std::env::var("WGPU_ADAPTER_NAME") {
+        let adapters = instance.enumerate_adapters(wgpu::Backends::all()).await;
+        let names: Vec<String> = adapters.iter().map(|a| a.get_info().name).collect();
+        return adapters
+            .into_iter()
+            .find(|a| a.get_info().name.to_lowercase().contains(&wanted.to_lowercase()))
+            .ok_or_else(|| {
+                Error::NoAdapter(format!(
+                    "WGPU_ADAPTER_NAME={wanted:?} matches none of the adapters found ({})",
+                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                ))
+            });
+    }
+    let options = wgpu::RequestAdapterOptions {
+        power_preference: wgpu::PowerPreference::from_env().unwrap_or_default(),
+        ..Default::default()
+    };
+    instance.request_adapter(&options).await.map_err(|e| Error::NoAdapter(e.to_string()))
 }

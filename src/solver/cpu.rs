@@ -421,7 +421,7 @@ fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
         let (es, ls) = (&f.elements[lo..hi], &mut lambda[lo..hi]);
         if parallel && es.len() >= PARALLEL_MIN_GROUP {
             let shared = SharedPositions::new(&mut p.x);
-            let chunk = (es.len() / (4 * rayon::current_num_threads())).next_multiple_of(4).max(256);
+            let chunk = es.len().div_ceil(rayon::current_num_threads()).next_multiple_of(4);
             es.par_chunks(chunk).zip(ls.par_chunks_mut(chunk)).for_each(|(es, ls)| {
                 let mut x = shared;
                 plain_chunk(es, ls, &f.params, &mut x, x_prev, w, k);
