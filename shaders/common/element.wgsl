@@ -5,6 +5,7 @@
 //   fn element_particles(j: u32) -> array<u32, ARITY>
 //   fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj   (C, ∇C, α in the current form)
 //   fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32     (material energy, J)
+//   fn element_plain(j: u32, e: Gathered) -> bool   (the lean compliant update in place, or false)
 
 struct Proj {
     c: f32,
@@ -121,9 +122,13 @@ fn element_jacobi_store(j: u32, e: Gathered, pr: Proj, r: vec2<f32>) {
 
 @compute @workgroup_size(64)
 fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    let plain = plain_form();
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let e = gather_live(j);
+        if (plain && element_plain(j, e)) {
+            continue;
+        }
         let pr = element_project(j, positions_of(e));
         element_gs_apply(j, e, pr, element_update(j, e, pr));
     }

@@ -132,6 +132,12 @@ fn delta_lambda(c: f32, sum_w_grad2: f32, alpha_tilde: f32, lambda: f32, gamma: 
     return vec2<f32>(((-c - alpha_tilde * lambda - gamma * grad_dot_dx) / denom) * params.sor, 1.0);
 }
 
+// The compliant form without constraint damping: where the CPU's plain sweep takes the families'
+// lean kernels (mirrors solver::cpu::gauss_seidel).
+fn plain_form() -> bool {
+    return params.form != FORM_ENERGY && params.beta == 0.0;
+}
+
 // The material energy of a constraint from its projection (mirrors solver::cpu): C in the
 // energy form, C²/(2α) in the compliant form.
 fn projected_energy(c: f32, alpha: f32) -> f32 {

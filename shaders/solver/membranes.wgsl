@@ -72,3 +72,8 @@ fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
     let g = array<vec3<f32>, ARITY>(-(g1 + g2), g1, g2);
     return energy_projection(membrane_energy(m, st), g, params.membrane_scale);
 }
+
+// No lean kernel for this family: the general update always runs.
+fn element_plain(j: u32, e: Gathered) -> bool {
+    return false;
+}

@@ -88,6 +88,24 @@ fn spring_update(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>, p: SpringProj)
     return vec4<f32>(p.g, r.x) * r.y;
 }
 
+// The lean compliant Hookean update (mirrors Spring::project_plain): Σw|∇C|² = w_a + w_b and
+// one division on the dependency chain. Returns false, changing nothing, for a zero-length spring
+// or a vanishing denominator; the general update then runs.
+fn spring_plain(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>) -> bool {
+    let d = xb.xyz - xa.xyz;
+    let len = sqrt(dot(d, d));
+    let alpha_tilde = params.inv_h2 / s.k;
+    let denom = xa.w + xb.w + alpha_tilde;
+    if (!(len > TINY && denom > EPSILON)) {
+        return false;
+    }
+    let q = (s.rest - len - alpha_tilde * lambda[j]) * params.sor / (denom * len);
+    lambda[j] = lambda[j] + q * len;
+    x[s.a] = vec4<f32>(xa.xyz - d * (xa.w * q), xa.w);
+    x[s.b] = vec4<f32>(xb.xyz + d * (xb.w * q), xb.w);
+    return true;
+}
+
 fn gs_apply(j: u32, s: Spring, xa: vec4<f32>, xb: vec4<f32>, r: vec4<f32>) {
     let d = r.w;
     lambda[j] = lambda[j] + d;
@@ -105,11 +123,15 @@ fn jacobi_store(j: u32, xa: vec4<f32>, xb: vec4<f32>, r: vec4<f32>) {
 
 @compute @workgroup_size(64)
 fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    let plain = plain_form() && params.material != MATERIAL_STVK;
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
         let s = springs[j];
         let xa = x[s.a];
         let xb = x[s.b];
+        if (plain && spring_plain(j, s, xa, xb)) {
+            continue;
+        }
         gs_apply(j, s, xa, xb, spring_update(j, s, xa, xb, spring_constraint(s, xa.xyz, xb.xyz)));
     }
 }

@@ -49,3 +49,8 @@ fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
     let g3 = h[2] * v;
     return energy_projection(v * st.psi, array<vec3<f32>, ARITY>(-(g1 + g2 + g3), g1, g2, g3), params.tet_scale);
 }
+
+// No lean kernel for this family: the general update always runs.
+fn element_plain(j: u32, e: Gathered) -> bool {
+    return false;
+}
