@@ -272,7 +272,8 @@ fn markdown(study: &Study) -> String {
          by e = {} (the reference's own error is about this or less);\n\
          - error e = ‖x − x_ref‖ / ‖x_ref − x_start‖ after {} frames (norms over all particles); time = median \
          wall-clock seconds per frame of the {} frames (GPU: each frame submitted and waited for), on a shared \
-         2-core machine, so times carry ±20% noise;\n\
+         2-core machine whose load varied during the runs, so a single time can be off by up to 2× (compare trends, \
+         not single cells);\n\
          - budgets B = iterations × substeps = {:?} projection sweeps per frame; splits: {};\n\
          - GPU: {}.\n",
         o.scene,
@@ -312,7 +313,7 @@ fn markdown(study: &Study) -> String {
     let _ =
         writeln!(s, "| error ≤ | fastest | fastest on the GPU | fastest compliant-form Jacobi |\n|---|---|---|---|");
     let finite = || study.rows.iter().filter(|r| r.finite());
-    for target in [0.3, 0.1, 0.03, 0.01, 0.003, 0.001, 3e-4, 1e-4] {
+    for target in [0.5, 0.2, 0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001] {
         if fastest(finite(), target).is_none() {
             continue;
         }
