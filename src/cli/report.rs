@@ -3,7 +3,9 @@
 use std::path::PathBuf;
 
 use clap::{Args, Subcommand};
-use eapbd::report::{beam, energy, stability};
+use eapbd::report::{beam, energy, error_time, stability};
+
+use super::{MaterialArg, material};
 
 /// Arguments of `eapbd report`.
 #[derive(Args, Debug)]
@@ -25,6 +27,10 @@ pub enum Report {
     /// Hard cases (stiffness, time step, iterations, mass ratio, inversion, collapse, Poisson 0.49,
     /// huge velocities) on the CPU and GPU backends, each with pass or fail and its figures.
     Stability(StabilityArgs),
+    /// Error against a converged f64 reference (1000 substeps per frame) and wall-clock time for
+    /// every solver variant (CPU/GPU, Gauss-Seidel/Jacobi, forms, energy-aware, SOR) over
+    /// iterations × substeps budgets, and error against frame number.
+    ErrorVsTime(ErrorArgs),
 }
 
 /// Arguments of `eapbd report energy`.
@@ -70,12 +76,107 @@ pub struct StabilityArgs {
     pub cpu_only: bool,
 }
 
+/// Arguments of `eapbd report error-vs-time`.
+#[derive(Args, Debug)]
+pub struct ErrorArgs {
+    /// Scene: cloth (hanging, mid-fall), bunny (volumetric Neo-Hookean, just after landing) or any
+    /// other scene name.
+    #[arg(long, default_value = "cloth")]
+    pub scene: String,
+    /// Material: hookean or stvk-spring (cloth scenes); linear, stvk, neo-hookean, mooney-rivlin
+    /// or arruda-boyce (volumetric scenes).
+    #[arg(long, value_parser = material)]
+    pub material: Option<MaterialArg>,
+    /// Small-strain spring stiffness k_s (N/m).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 1.0e4)]
+    pub stiffness: f32,
+    /// Young's modulus of volumetric scenes (Pa).
+    #[arg(long, allow_negative_numbers = true, default_value_t = 2.0e6)]
+    pub young: f64,
+    /// Poisson's ratio of volumetric scenes.
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.3)]
+    pub poisson: f64,
+    /// Particles per side of a cloth (default 41).
+    #[arg(long)]
+    pub resolution: Option<u32>,
+    /// Volumetric bunny: lattice cells along the longest side (default 8 in this report).
+    #[arg(long)]
+    pub lattice: Option<u32>,
+    /// Dihedral bending stiffness k_b (N·m/rad) of cloth scenes; 0 disables.
+    #[arg(long, allow_negative_numbers = true)]
+    pub bending_stiffness: Option<f32>,
+    /// Frames K after which the error is measured (default 10; 5 with --quick).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Frames run before the start state is taken (default: 20 for the cloth, 12 for the bunny).
+    #[arg(long)]
+    pub start_frame: Option<u32>,
+    /// Substeps per frame of the f64 reference (default 1000; 200 with --quick).
+    #[arg(long)]
+    pub reference_substeps: Option<u32>,
+    /// Output directory (default docs/error/SCENE).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Fewer budgets, splits and frames and a cheaper reference (under a minute) instead of the
+    /// full study (5 to 10 minutes).
+    #[arg(long)]
+    pub quick: bool,
+    /// Run the CPU variants only (GPU variants are listed as skipped).
+    #[arg(long)]
+    pub cpu_only: bool,
+}
+
+impl ErrorArgs {
+    /// The study these arguments select.
+    pub fn options(&self) -> anyhow::Result<error_time::StudyOptions> {
+        let (material, solid) = match self.material {
+            Some(MaterialArg::Spring(m)) => (m, None),
+            Some(MaterialArg::Solid(m)) => (eapbd::constraints::SpringMaterial::Hookean, Some(m)),
+            Some(MaterialArg::AnisoCloth) => anyhow::bail!("--material aniso-cloth is not offered by this report"),
+            None => (eapbd::constraints::SpringMaterial::Hookean, None),
+        };
+        let scene_options = eapbd::scene::SceneOptions {
+            resolution: self.resolution,
+            stiffness: self.stiffness,
+            material,
+            bending_stiffness: self.bending_stiffness,
+            solid,
+            young: self.young,
+            poisson: self.poisson,
+            lattice: self.lattice,
+            ..Default::default()
+        };
+        let mut o = if self.quick {
+            error_time::StudyOptions::quick(&self.scene, scene_options)
+        } else {
+            error_time::StudyOptions::full(&self.scene, scene_options)
+        };
+        if let Some(k) = self.frames {
+            o.frames = k;
+            o.track_frames = o.track_frames.max(k);
+        }
+        if let Some(f) = self.start_frame {
+            o.start_frame = f;
+        }
+        if let Some(n) = self.reference_substeps {
+            o.reference_substeps = n;
+        }
+        if self.cpu_only {
+            o.variants.retain(|v| v.backend == eapbd::simulation::Backend::Cpu);
+        }
+        eapbd::scene::build(&o.scene, &o.options)?;
+        o.validate()?;
+        Ok(o)
+    }
+}
+
 /// Runs the command.
 pub fn run(a: &ReportArgs) -> anyhow::Result<()> {
     match &a.report {
         Report::Energy(e) => energy(e),
         Report::Beam(b) => beam(b),
         Report::Stability(s) => stability(s),
+        Report::ErrorVsTime(e) => error_vs_time(e),
     }
 }
 
@@ -187,5 +288,57 @@ fn stability(a: &StabilityArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     stability::write_outputs(&a.out, &cases, &entries, a.quick)?;
     println!("wrote {} ({:.1} s)", a.out.join("stability.md").display(), started.elapsed().as_secs_f64());
+    Ok(())
+}
+
+fn error_vs_time(a: &ErrorArgs) -> anyhow::Result<()> {
+    use error_time::Progress;
+    let opts = a.options()?;
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from("docs/error").join(&opts.scene));
+    let wants_gpu = opts.variants.iter().any(|v| v.backend == eapbd::simulation::Backend::Gpu);
+    let gpu = if wants_gpu { stability::open_gpu() } else { None };
+    if gpu.is_none() && wants_gpu {
+        eprintln!("no GPU adapter: GPU variants are skipped");
+    }
+    let bar = indicatif::ProgressBar::new(opts.steps() as u64);
+    let study = error_time::run_study(&opts, gpu.as_ref(), |p| {
+        match p {
+            Progress::Reference { frame, of, check } => {
+                bar.set_message(format!("{}reference frame {frame}/{of}", if check { "half-substep " } else { "" }));
+            }
+            Progress::Sweep(r) => bar.suspend(|| {
+                println!(
+                    "{:34} {:3} it × {:3} sub  e {:9.3e}  {:8.2} ms/frame{}",
+                    r.variant.name(),
+                    r.iterations,
+                    r.substeps,
+                    r.error,
+                    r.seconds_per_frame * 1e3,
+                    if r.finite() { "" } else { "  NOT FINITE" }
+                )
+            }),
+            Progress::Track(points) => bar.suspend(|| {
+                if let (Some(first), Some(last)) = (points.first(), points.last()) {
+                    println!(
+                        "{:34} {:3} it × {:3} sub  e over {} frames: {:9.3e} … {:9.3e}",
+                        first.variant.name(),
+                        first.iterations,
+                        first.substeps,
+                        last.frame,
+                        first.error,
+                        last.error
+                    )
+                }
+            }),
+        }
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    println!(
+        "reference: {} substeps, {:.2} s/frame, half-substep check e = {:.2e}",
+        study.reference.substeps, study.reference.seconds_per_frame, study.reference.check_error
+    );
+    error_time::write_outputs(&out, &study)?;
+    println!("wrote {} ({:.1} s)", out.join("error_vs_time.md").display(), study.wall);
     Ok(())
 }
