@@ -6,7 +6,7 @@
 use std::alloc::System;
 use std::sync::{Arc, Mutex, MutexGuard};
 
-use eapbd::constraints::Form;
+use eapbd::constraints::{Bend, Form, Spring};
 use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
 use eapbd::scene::{self, Scene, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings};
@@ -95,6 +95,12 @@ fn gpu_frames(ctx: &GpuContext, kernels: &Arc<Kernels>, scene: Scene) -> (f64, f
         ctx.wait().unwrap();
     }
     let warm = device_memory(ctx);
+    // The accounting: 3 × vec4<f32> per particle; elements and one f32 multiplier per constraint.
+    let (sc, m) = (g.scene(), g.memory());
+    let springs = sc.springs.as_ref().map_or(0, |f| f.len() * size_of::<Spring>());
+    let bends = sc.bends.as_ref().map_or(0, |f| f.len() * size_of::<Bend>());
+    assert_eq!(m.particles, 48 * sc.num_particles() as u64);
+    assert_eq!(m.constraints, (springs + bends + 4 * sc.num_constraints()) as u64);
     if let (Some(b), Some(w)) = (before, warm) {
         let held = w.1 - b.1;
         assert!(

@@ -187,6 +187,8 @@ fn draw_log_log<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotte
         .configure_mesh()
         .x_desc(&panel.x_label)
         .y_desc(&panel.y_label)
+        .x_label_formatter(&log_label)
+        .y_label_formatter(&log_label)
         .label_style(("sans-serif", 12))
         .draw()
         .map_err(plot_error)?;
@@ -215,4 +217,41 @@ fn draw_log_log<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotte
         .draw()
         .map_err(plot_error)?;
     Ok(())
+}
+
+/// A logarithmic axis label: 1, 2 and 5 times a power of ten, compact (`20k`, `1M`, `0.5`);
+/// other ticks unlabelled.
+fn log_label(v: &f64) -> String {
+    if !(v.is_finite() && *v > 0.0) {
+        return String::new();
+    }
+    let e = v.log10().floor();
+    let m = v / 10f64.powf(e);
+    if ![1.0, 2.0, 5.0].iter().any(|k| (m - k).abs() < 1e-6 * k) {
+        return String::new();
+    }
+    let (scaled, suffix) = if *v >= 1e6 {
+        (v / 1e6, "M")
+    } else if *v >= 1e3 {
+        (v / 1e3, "k")
+    } else {
+        (*v, "")
+    };
+    let text = format!("{scaled:.3}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    format!("{text}{suffix}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::log_label;
+
+    #[test]
+    fn log_labels_name_one_two_five_only() {
+        assert_eq!(log_label(&20_000.0), "20k");
+        assert_eq!(log_label(&1_000_000.0), "1M");
+        assert_eq!(log_label(&0.5), "0.5");
+        assert_eq!(log_label(&100.0), "100");
+        assert_eq!(log_label(&30_000.0), "");
+    }
 }

@@ -73,7 +73,7 @@ pub fn plot(path: &Path, points: &[ScalePoint], gpu_name: &str) -> eapbd::Result
         lines.push(Line {
             label: "linear from the smallest cloth (CPU, 1 thread)".into(),
             points: [first, last].iter().map(|p| (p.constraints as f64, slope * p.constraints as f64)).collect(),
-            color: 5,
+            color: 4,
             markers: false,
         });
     }
