@@ -18,6 +18,22 @@ pub fn stretch<V: Vector>(edges: &[[u32; 2]], rest: &[f32], x: &[V]) -> (f64, f6
     if edges.is_empty() { (0.0, 0.0) } else { (sum / edges.len() as f64, max) }
 }
 
+/// The scene's reported edges whose rest vector (between the initial positions) lies along a
+/// coordinate axis, with their rest lengths (m): a cloth grid's warp and weft edges without the
+/// diagonals, on which the performance issue measures stretch.
+pub fn axis_aligned_edges(scene: &Scene) -> (Vec<[u32; 2]>, Vec<f32>) {
+    scene
+        .edges
+        .iter()
+        .zip(&scene.edge_rest)
+        .filter(|&(&[a, b], _)| {
+            let d = (scene.positions[b as usize] - scene.positions[a as usize]).abs();
+            d.max_element() > 0.0 && d.max_element() >= (1.0 - 1e-4) * d.length()
+        })
+        .map(|(&e, &l0)| (e, l0))
+        .unzip()
+}
+
 /// Kinetic energy `Σ ½ m |v|²` over free particles (J).
 pub fn kinetic<V: Vector>(v: &[V], w: &[V::S]) -> f64 {
     v.iter()

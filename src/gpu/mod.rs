@@ -5,6 +5,7 @@
 mod context;
 mod kernels;
 mod layout;
+mod memory;
 mod readback;
 pub mod shaders;
 mod solver;
@@ -12,5 +13,6 @@ mod solver;
 pub use context::GpuContext;
 pub use kernels::{Kernels, shader_module, storage_entry};
 pub use layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
+pub use memory::GpuMemory;
 pub use readback::{map_and_copy, read_buffer};
 pub use solver::{GpuEnergies, GpuSolver, GpuState};

@@ -7,6 +7,7 @@ use wgpu::util::DeviceExt;
 
 use super::kernels::{FamilyKernels, FamilyKind, Kernels, PARTIAL_SLOTS, groups, reduce_groups};
 use super::layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
+use super::memory::GpuMemory;
 use super::readback::read_buffer;
 use crate::constraints::Element;
 use crate::error::{Error, Result};
@@ -110,6 +111,8 @@ pub struct GpuSolver {
     gravity_shift: f64,
     last: Option<Settings>,
     n: u32,
+    /// Sizes of the buffers created so far.
+    memory: GpuMemory,
 }
 
 /// `−M g·(x_com − x_floor)`: converts gravitational energy about the rest centre of mass into
@@ -160,6 +163,7 @@ impl GpuSolver {
         // The dispatch-range table: each family's color groups, then the whole family.
         let mut ranges: Vec<DispatchRange> = Vec::new();
         let mut slot_base = 0u32;
+        let mut constraint_bytes = 0u64;
         let mut family = |kind: FamilyKind, len: usize, colors: &[std::ops::Range<u32>], bytes: &[u8]| {
             let label = kind.name();
             let elements = storage_buffer(device, label, bytes, wgpu::BufferUsages::empty());
@@ -169,6 +173,7 @@ impl GpuSolver {
                 layout: &kernels.family_layout,
                 entries: &[entry(0, &elements), entry(1, &lambda)],
             });
+            constraint_bytes += elements.size() + lambda.size();
             let mut color_offsets = Vec::with_capacity(colors.len());
             for r in colors {
                 color_offsets.push((ranges.len() as u64 * RANGE_STRIDE) as u32);
@@ -231,6 +236,12 @@ impl GpuSolver {
             }],
         });
         let gravity_shift = gravity_shift(&scene);
+        let memory = GpuMemory {
+            particles: x.size() + x_prev.size() + v.size(),
+            constraints: constraint_bytes,
+            fixed: params.size() + spheres.size() + range_table.size(),
+            ..GpuMemory::default()
+        };
         Ok(GpuSolver {
             kernels,
             device: device.clone(),
@@ -250,6 +261,7 @@ impl GpuSolver {
             gravity_shift,
             last: None,
             n,
+            memory,
         })
     }
 
@@ -267,6 +279,17 @@ impl GpuSolver {
     /// Each family's multipliers as `(family index in solve order, buffer, element count)`.
     pub fn lambda_buffers(&self) -> impl Iterator<Item = (usize, &wgpu::Buffer, u32)> {
         self.families.iter().map(|f| (f.kind as usize, &f.lambda, f.len))
+    }
+
+    /// Sizes of the device buffers this solver holds, by purpose (bytes).
+    pub fn memory(&self) -> GpuMemory {
+        self.memory
+    }
+
+    /// Total size of the device buffers this solver holds (bytes): the sum of the sizes of every
+    /// buffer it created and still keeps.
+    pub fn memory_bytes(&self) -> u64 {
+        self.memory.total()
     }
 
     /// The settings of the last recorded frame.
@@ -422,6 +445,7 @@ impl GpuSolver {
         let partials =
             storage_buffer(&self.device, "energy partials", &[0u8; PARTIAL_SLOTS * 16], wgpu::BufferUsages::empty());
         let ledger = storage_buffer(&self.device, "energy ledger", &[0u8; 32], wgpu::BufferUsages::empty());
+        self.memory.energy = partials.size() + ledger.size();
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("energy"),
             layout: &self.kernels.energy_layout,
@@ -437,6 +461,7 @@ impl GpuSolver {
         }
         let snapshots =
             storage_buffer(&self.device, "snapshots", &vec![0u8; self.n as usize * 32], wgpu::BufferUsages::empty());
+        self.memory.local = snapshots.size();
         self.local = Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("local particles"),
             layout: &self.kernels.local_particles_layout,
@@ -449,6 +474,7 @@ impl GpuSolver {
                 &vec![0u8; f.len as usize * 4],
                 wgpu::BufferUsages::empty(),
             );
+            self.memory.local += start.size();
             f.local = Some(self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("local family"),
                 layout: &self.kernels.local_family_layout,
@@ -560,6 +586,8 @@ impl GpuSolver {
             layout: &self.kernels.apply_layout,
             entries: &[entry(0, &corr), entry(1, &offsets), entry(2, &slots)],
         });
+        // The buffers of an earlier ω are dropped with their bind groups below.
+        self.memory.jacobi = corr.size() + offsets.size() + slots.size();
         for (f, sc) in self.families.iter_mut().zip(scales) {
             {
                 let scale = storage_buffer(
@@ -568,6 +596,7 @@ impl GpuSolver {
                     bytemuck::cast_slice(&sc),
                     wgpu::BufferUsages::empty(),
                 );
+                self.memory.jacobi += scale.size();
                 let bg = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("family jacobi"),
                     layout: &self.kernels.family_jacobi_layout,

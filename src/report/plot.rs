@@ -1,4 +1,5 @@
-//! Line plots written as PNG (plotters on an in-memory bitmap, encoded with `image`).
+//! Line plots written as PNG (plotters on an in-memory bitmap, encoded with `image`), on linear
+//! axes ([`save_panels`]) or logarithmic ones ([`save_log_log`]).
 
 use std::path::Path;
 use std::sync::Once;
@@ -150,4 +151,112 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotters
         .draw()
         .map_err(plot_error)?;
     Ok(())
+}
+
+/// Writes one chart with logarithmic axes (both positive; other points are left out) to `path`,
+/// `size` pixels: for costs that span decades, such as time per frame against problem size.
+pub fn save_log_log(path: &Path, panel: &Panel, size: (u32, u32)) -> Result<()> {
+    register_font();
+    let (w, h) = size;
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(plot_error)?;
+        draw_log_log(panel, &root)?;
+        root.present().map_err(plot_error)?;
+    }
+    let img = image::RgbImage::from_raw(w, h, buf).ok_or_else(|| plot_error("buffer size"))?;
+    img.save_with_format(path, image::ImageFormat::Png)
+        .map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
+}
+
+fn draw_log_log<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotters::coord::Shift>) -> Result<()> {
+    let positive = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && p.0 > 0.0 && p.1 > 0.0;
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in panel.lines.iter().flat_map(|l| l.points.iter()).filter(|p| positive(p)) {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    if x0 > x1 {
+        (x0, x1, y0, y1) = (1.0, 10.0, 1.0, 10.0);
+    }
+    // A margin of a fifth of a decade (×1.58) on each side.
+    let (mx, my) = (10f64.powf(0.2), 10f64.powf(0.2));
+    let mut chart = ChartBuilder::on(area)
+        .caption(&panel.title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(64)
+        .build_cartesian_2d((x0 / mx..x1 * mx).log_scale(), (y0 / my..y1 * my).log_scale())
+        .map_err(plot_error)?;
+    chart
+        .configure_mesh()
+        .x_desc(&panel.x_label)
+        .y_desc(&panel.y_label)
+        .x_label_formatter(&log_label)
+        .y_label_formatter(&log_label)
+        .label_style(("sans-serif", 12))
+        .draw()
+        .map_err(plot_error)?;
+    for line in &panel.lines {
+        let color = PALETTE[line.color % PALETTE.len()];
+        let points: Vec<(f64, f64)> = line.points.iter().copied().filter(positive).collect();
+        chart
+            .draw_series(LineSeries::new(points.iter().copied(), color.stroke_width(2)))
+            .map_err(plot_error)?
+            .label(line.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color.stroke_width(2)));
+        if line.markers {
+            chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled()))).map_err(plot_error)?;
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .position(match panel.legend {
+            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+            Legend::LowerRight => SeriesLabelPosition::LowerRight,
+            Legend::UpperRight => SeriesLabelPosition::UpperRight,
+        })
+        .draw()
+        .map_err(plot_error)?;
+    Ok(())
+}
+
+/// A logarithmic axis label: 1, 2 and 5 times a power of ten, compact (`20k`, `1M`, `0.5`);
+/// other ticks unlabelled.
+fn log_label(v: &f64) -> String {
+    if !(v.is_finite() && *v > 0.0) {
+        return String::new();
+    }
+    let e = v.log10().floor();
+    let m = v / 10f64.powf(e);
+    if ![1.0, 2.0, 5.0].iter().any(|k| (m - k).abs() < 1e-6 * k) {
+        return String::new();
+    }
+    let (scaled, suffix) = if *v >= 1e6 {
+        (v / 1e6, "M")
+    } else if *v >= 1e3 {
+        (v / 1e3, "k")
+    } else {
+        (*v, "")
+    };
+    let text = format!("{scaled:.3}");
+    let text = text.trim_end_matches('0').trim_end_matches('.');
+    format!("{text}{suffix}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::log_label;
+
+    #[test]
+    fn log_labels_name_one_two_five_only() {
+        assert_eq!(log_label(&20_000.0), "20k");
+        assert_eq!(log_label(&1_000_000.0), "1M");
+        assert_eq!(log_label(&0.5), "0.5");
+        assert_eq!(log_label(&100.0), "100");
+        assert_eq!(log_label(&30_000.0), "");
+    }
 }

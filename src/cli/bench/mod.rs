@@ -1,0 +1,123 @@
+//! `eapbd bench`: time per frame, throughput, dispatches and memory of the CPU solver (one
+//! thread and every core) and the GPU solver on `cloth-paper`, the peer scene, `bunny-paper` and
+//! cloths from about 5,000 to 1,000,000 constraints; the peer scene's splits of 30 projections into
+//! iterations × substeps with their stretch; the scaling of time with constraint count; the cost
+//! of mesh coloring. Prints Markdown on stdout and writes `bench.csv`, `scaling.csv`, `peer.csv`,
+//! `scaling.png` and `bench.md`.
+
+mod cases;
+mod coloring;
+mod measure;
+mod output;
+mod peer;
+mod scaling;
+mod timing;
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use clap::Args;
+use eapbd::scene;
+
+use cases::{Backend, Plan};
+use measure::Gpu;
+use output::Results;
+
+/// Arguments of `eapbd bench`.
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// A short run (under a minute on 2 cores): fewer frames, three splits of the peer scene and
+    /// cloths up to about 100,000 constraints.
+    #[arg(long)]
+    pub quick: bool,
+    /// Output directory (default: docs/bench, or target/bench-quick with --quick).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Leave out the GPU path.
+    #[arg(long)]
+    pub cpu_only: bool,
+}
+
+/// Runs the command.
+pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
+    let started = Instant::now();
+    let plan = if a.quick { Plan::quick() } else { Plan::full() };
+    let out = a.out.clone().unwrap_or_else(|| PathBuf::from(if a.quick { "target/bench-quick" } else { "docs/bench" }));
+    let gpu = if a.cpu_only {
+        None
+    } else {
+        match Gpu::open() {
+            Ok(g) => Some(g),
+            Err(e) => {
+                eprintln!("GPU path not measured: {e}");
+                None
+            }
+        }
+    };
+    let gpu_name = gpu.as_ref().map_or("none".to_string(), Gpu::describe);
+    let total = plan.rows(gpu.is_some()) + 2 * plan.splits.len() + 1;
+    let bar = indicatif::ProgressBar::new(total as u64);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}") {
+        bar.set_style(style);
+    }
+
+    let mut rows = Vec::new();
+    for case in &plan.cases {
+        bar.set_message(format!("building {}", case.label));
+        let scene = scene::build(case.scene, &case.opts)?;
+        for &backend in &case.backends {
+            bar.set_message(format!("{} ({} constraints) on {}", case.label, scene.num_constraints(), backend.name()));
+            let row = match backend {
+                Backend::Gpu => match &gpu {
+                    Some(g) => g.row(case, scene.clone(), &plan.budget)?,
+                    None => continue,
+                },
+                _ => measure::cpu_row(case, scene.clone(), backend, &plan.budget)?,
+            };
+            rows.push(row);
+            bar.inc(1);
+        }
+    }
+
+    let mut splits = Vec::new();
+    for &(iterations, substeps) in &plan.splits {
+        for backend in [Backend::CpuSingle, Backend::CpuAll] {
+            bar.set_message(format!("peer scene {iterations} × {substeps} on {}", backend.name()));
+            splits.push(peer::run_split(iterations, substeps, backend, plan.peer_frames)?);
+            bar.inc(1);
+        }
+    }
+
+    bar.set_message("mesh coloring");
+    let coloring = coloring::run(plan.coloring_reps);
+    bar.inc(1);
+    bar.finish_and_clear();
+
+    let scaling = scaling::series(&rows);
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let command = if plan.quick { "eapbd bench --quick" } else { "eapbd bench" };
+    let header = format!(
+        "# Benchmarks ({})\n\nCommand: `cargo run --release -- {}`. {threads} CPU threads available; GPU adapter: {gpu_name}. \
+         f32, dt = 1/60 s, Gauss-Seidel over color groups unless stated.\n",
+        if plan.quick { "quick run" } else { "full run" },
+        command.trim_start_matches("eapbd ")
+    );
+    let results = Results {
+        header,
+        rows,
+        splits,
+        split_frames: plan.peer_frames,
+        scaling,
+        coloring,
+        coloring_reps: plan.coloring_reps,
+    };
+    let mut md = output::markdown(&results);
+    let wall = started.elapsed().as_secs_f64();
+    md.push_str(&format!("\nRun time: {wall:.0} s.\n"));
+    print!("{md}");
+    output::write_files(&out, &results)?;
+    output::write(&out, "bench.md", &md)?;
+    scaling::plot(&out.join("scaling.png"), &results.scaling, &gpu_name)?;
+    println!("\nwrote {} (bench.csv, scaling.csv, peer.csv, scaling.png)", out.join("bench.md").display());
+    Ok(())
+}

@@ -1,0 +1,324 @@
+//! The results as Markdown tables (printed and written to `bench.md`) and CSV files.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use super::cases::{Backend, PEER_BENDING, PEER_RESOLUTION, PEER_STIFFNESS};
+use super::coloring::ColoringRow;
+use super::measure::Row;
+use super::peer::{Split, most_accurate};
+use super::scaling::ScalePoint;
+
+/// Everything one run measured.
+pub struct Results {
+    /// The run's heading: command, machine, adapter.
+    pub header: String,
+    /// Rows of the main table.
+    pub rows: Vec<Row>,
+    /// The peer scene's splits.
+    pub splits: Vec<Split>,
+    /// Frames of each split.
+    pub split_frames: u32,
+    /// The scaling series.
+    pub scaling: Vec<ScalePoint>,
+    /// Mesh coloring.
+    pub coloring: Vec<ColoringRow>,
+    /// Repetitions of each coloring case.
+    pub coloring_reps: u32,
+}
+
+/// A time in ms with three significant figures or so.
+fn ms(v: f64) -> String {
+    if !v.is_finite() {
+        "–".into()
+    } else if v < 10.0 {
+        format!("{v:.3}")
+    } else if v < 100.0 {
+        format!("{v:.2}")
+    } else {
+        format!("{v:.1}")
+    }
+}
+
+/// Bytes in KiB or MiB.
+fn bytes(b: u64) -> String {
+    if b >= 1 << 20 {
+        format!("{:.2} MiB", b as f64 / (1u64 << 20) as f64)
+    } else {
+        format!("{:.1} KiB", b as f64 / 1024.0)
+    }
+}
+
+fn solver(r: &Row) -> String {
+    format!("{} {}", r.method.name(), r.form.name())
+}
+
+/// The main table: time, throughput and dispatches of every row.
+pub fn time_table(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "| scene | solver | it × sub | particles | constraints | colors | backend | frames | ms/frame | projections/s | ns/projection | dispatches/frame |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} × {} | {} | {} | {} | {} | {} | {} | {:.1} M | {:.1} | {} |",
+            r.label,
+            solver(r),
+            r.iterations,
+            r.substeps,
+            r.particles,
+            r.constraints,
+            r.colors,
+            r.backend.name(),
+            r.timing.frames,
+            ms(r.timing.median_ms),
+            r.projections_per_s() / 1e6,
+            r.ns_per_projection(),
+            r.dispatches.map_or("–".into(), |d| d.to_string())
+        );
+    }
+    s
+}
+
+/// Memory of the CPU and GPU solvers per scene (the single-threaded CPU row and the GPU row of
+/// each case).
+pub fn memory_table(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "| scene | solver | particles | constraints | CPU | CPU B/particle | CPU B/constraint | GPU | GPU B/particle | GPU B/constraint |\n\
+         |---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    for cpu in rows.iter().filter(|r| r.backend == Backend::CpuSingle) {
+        let gpu = rows.iter().find(|g| {
+            g.backend == Backend::Gpu
+                && g.label == cpu.label
+                && g.method == cpu.method
+                && g.form == cpu.form
+                && g.iterations == cpu.iterations
+        });
+        let (g_total, g_p, g_c) = gpu.map_or(("–".into(), "–".into(), "–".into()), |g| {
+            (
+                bytes(g.memory.total),
+                format!("{:.0}", g.bytes_per_particle()),
+                format!("{:.1}", g.bytes_per_constraint()),
+            )
+        });
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} | {:.0} | {:.1} | {} | {} | {} |",
+            cpu.label,
+            solver(cpu),
+            cpu.particles,
+            cpu.constraints,
+            bytes(cpu.memory.total),
+            cpu.bytes_per_particle(),
+            cpu.bytes_per_constraint(),
+            g_total,
+            g_p,
+            g_c
+        );
+    }
+    s
+}
+
+/// The peer scene's splits, one line per split with both CPU backends.
+pub fn peer_table(splits: &[Split]) -> String {
+    let mut s = String::from(
+        "| iterations × substeps | ms/frame, 1 thread | ms/frame, all threads | grid stretch | all-edge stretch |\n\
+         |---|---|---|---|---|\n",
+    );
+    let mut seen: Vec<(u32, u32)> = Vec::new();
+    for sp in splits {
+        let key = (sp.iterations, sp.substeps);
+        if seen.contains(&key) {
+            continue;
+        }
+        seen.push(key);
+        let of = |b: Backend| splits.iter().find(|x| (x.iterations, x.substeps) == key && x.backend == b);
+        let single = of(Backend::CpuSingle).unwrap_or(sp);
+        let _ = writeln!(
+            s,
+            "| {} × {} | {} | {} | {:.4} | {:.4} |",
+            sp.iterations,
+            sp.substeps,
+            of(Backend::CpuSingle).map_or("–".into(), |x| ms(x.mean_ms)),
+            of(Backend::CpuAll).map_or("–".into(), |x| ms(x.mean_ms)),
+            single.stretch_grid,
+            single.stretch_all
+        );
+    }
+    s
+}
+
+/// One sentence naming the most accurate split.
+pub fn most_accurate_line(splits: &[Split]) -> String {
+    match most_accurate(splits, Backend::CpuSingle) {
+        Some(b) => format!(
+            "Most accurate split: {} × {} (grid stretch {:.4}, {} ms/frame on one thread).",
+            b.iterations,
+            b.substeps,
+            b.stretch_grid,
+            ms(b.mean_ms)
+        ),
+        None => "No split measured.".into(),
+    }
+}
+
+/// The scaling series: one line per cloth, the backends side by side.
+pub fn scaling_table(points: &[ScalePoint]) -> String {
+    let mut s = String::from(
+        "| cloth N×N | particles | constraints | cpu-1 ms | cpu-1 ns/proj | ratio | cpu-all ms | cpu-all ns/proj | ratio | gpu ms | gpu ns/proj | ratio |\n\
+         |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+    );
+    let mut sizes: Vec<u32> = points.iter().map(|p| p.resolution).collect();
+    sizes.sort_unstable();
+    sizes.dedup();
+    for n in sizes {
+        let Some(any) = points.iter().find(|p| p.resolution == n) else { continue };
+        let _ = write!(s, "| {n} | {} | {} |", any.particles, any.constraints);
+        for b in Backend::ALL {
+            match points.iter().find(|p| p.resolution == n && p.backend == b) {
+                Some(p) => {
+                    let _ = write!(s, " {} | {:.1} | {:.2} |", ms(p.ms), p.ns_per_projection, p.ratio);
+                }
+                None => s.push_str(" – | – | – |"),
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// The coloring table.
+pub fn coloring_table(rows: &[ColoringRow]) -> String {
+    let mut s = String::from("| elements | particles | colors | group sizes | ms |\n|---|---|---|---|---|\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "| {} {} | {} | {} | {}..{} | {:.1} |",
+            r.elements, r.name, r.particles, r.colors, r.groups.0, r.groups.1, r.ms
+        );
+    }
+    s
+}
+
+/// The whole report as Markdown.
+pub fn markdown(r: &Results) -> String {
+    let mut s = r.header.clone();
+    s.push_str("\n## Time per frame\n\n");
+    s.push_str(
+        "Median of the measured frames after warm-up; every frame waited for (the GPU: recorded, submitted and \
+         waited for). cpu-1: `threads: 1`; cpu-all: `threads: 0` (every core).\n\n",
+    );
+    s.push_str(&time_table(&r.rows));
+    s.push_str("\n## Memory\n\n");
+    s.push_str(
+        "CPU: particle state, elements and multipliers, from the array lengths. GPU: the sizes of the buffers \
+         the solver created (`GpuSolver::memory`). Per particle: the per-particle arrays over the particle \
+         count; per constraint: the per-constraint arrays over the constraint count.\n\n",
+    );
+    s.push_str(&memory_table(&r.rows));
+    let _ = write!(
+        s,
+        "\n## Peer scene: splits of 30\n\n`cloth --resolution {PEER_RESOLUTION} --stiffness {PEER_STIFFNESS:e} \
+         --bending-stiffness {PEER_BENDING:e}`, Gauss-Seidel, compliant; mean time per frame over {} frames from \
+         rest, and the time-averaged mean relative stretch over the grid edges (no diagonals) and over every \
+         spring edge.\n\n",
+        r.split_frames
+    );
+    s.push_str(&peer_table(&r.splits));
+    s.push('\n');
+    s.push_str(&most_accurate_line(&r.splits));
+    s.push_str("\n\n## Scaling\n\n");
+    s.push_str(
+        "`cloth --resolution N` (springs k_s = 1e4 N/m on grid edges and one diagonal, dihedral bending \
+         k_b = 1e-3 N·m/rad), 30 iterations; ratio: ns per projection over the smallest cloth's on the same \
+         backend (1 = linear). Plot: `scaling.png`.\n\n",
+    );
+    s.push_str(&scaling_table(&r.scaling));
+    let _ = write!(s, "\n## Mesh coloring\n\nBest of {} runs.\n\n", r.coloring_reps);
+    s.push_str(&coloring_table(&r.coloring));
+    s
+}
+
+fn io(path: &Path) -> impl FnOnce(std::io::Error) -> eapbd::Error + '_ {
+    move |source| eapbd::Error::Io { path: path.to_path_buf(), source }
+}
+
+/// Writes `text` to `dir/name`.
+pub fn write(dir: &Path, name: &str, text: &str) -> eapbd::Result<()> {
+    let path = dir.join(name);
+    std::fs::write(&path, text).map_err(io(&path))
+}
+
+/// The column names of `bench.csv`.
+pub const BENCH_CSV_HEADER: &str = "label,scene,resolution,backend,method,form,iterations,substeps,particles,constraints,colors,frames,ms_per_frame,projections_per_s,ns_per_projection,dispatches_per_frame,memory_bytes,particle_bytes,constraint_bytes,bytes_per_particle,bytes_per_constraint";
+/// The column names of `scaling.csv`.
+pub const SCALING_CSV_HEADER: &str =
+    "resolution,particles,constraints,backend,ms_per_frame,ns_per_projection,ratio_to_smallest";
+/// The column names of `peer.csv`.
+pub const PEER_CSV_HEADER: &str = "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges";
+
+/// Writes `bench.csv`, `scaling.csv` and `peer.csv` to `dir` (created if needed).
+pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let mut csv = format!("{BENCH_CSV_HEADER}\n");
+    for x in &r.rows {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{:.6},{:.0},{:.3},{},{},{},{},{:.2},{:.2}",
+            x.label,
+            x.scene,
+            x.resolution.map_or(String::new(), |n| n.to_string()),
+            x.backend.name(),
+            x.method.name(),
+            x.form.name(),
+            x.iterations,
+            x.substeps,
+            x.particles,
+            x.constraints,
+            x.colors,
+            x.timing.frames,
+            x.timing.median_ms,
+            x.projections_per_s(),
+            x.ns_per_projection(),
+            x.dispatches.map_or(String::new(), |d| d.to_string()),
+            x.memory.total,
+            x.memory.particles,
+            x.memory.constraints,
+            x.bytes_per_particle(),
+            x.bytes_per_constraint()
+        );
+    }
+    write(dir, "bench.csv", &csv)?;
+    let mut csv = format!("{SCALING_CSV_HEADER}\n");
+    for p in &r.scaling {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{:.6},{:.3},{:.4}",
+            p.resolution,
+            p.particles,
+            p.constraints,
+            p.backend.name(),
+            p.ms,
+            p.ns_per_projection,
+            p.ratio
+        );
+    }
+    write(dir, "scaling.csv", &csv)?;
+    let mut csv = format!("{PEER_CSV_HEADER}\n");
+    for p in &r.splits {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{:.6},{:.6},{:.6}",
+            p.iterations,
+            p.substeps,
+            p.backend.name(),
+            p.frames,
+            p.mean_ms,
+            p.stretch_grid,
+            p.stretch_all
+        );
+    }
+    write(dir, "peer.csv", &csv)
+}

@@ -1,0 +1,63 @@
+//! The peer scene's splits of 30 projections per frame into iterations × substeps: time and
+//! accuracy on the CPU solver.
+
+use std::time::Instant;
+
+use eapbd::metrics;
+use eapbd::scene;
+use eapbd::solver::{CpuSolver, Settings};
+use glam::Vec3;
+
+use super::cases::{Backend, peer_options};
+
+/// One split of the peer scene on one CPU backend.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Split {
+    /// Constraint iterations per substep.
+    pub iterations: u32,
+    /// Substeps per frame.
+    pub substeps: u32,
+    /// `CpuSingle` or `CpuAll`.
+    pub backend: Backend,
+    /// Frames simulated from the initial state.
+    pub frames: u32,
+    /// Mean wall time of a frame (ms), measurement excluded.
+    pub mean_ms: f64,
+    /// Time average over the frames of the mean relative stretch `||d| − l₀| / l₀` of the grid
+    /// edges (warp and weft, no diagonals): the performance issue's accuracy measure.
+    pub stretch_grid: f64,
+    /// The same over every spring edge, diagonals included (the `simulate` command's measure).
+    pub stretch_all: f64,
+}
+
+/// Simulates the peer scene for `frames` frames at `iterations × substeps` on `backend`.
+pub fn run_split(iterations: u32, substeps: u32, backend: Backend, frames: u32) -> anyhow::Result<Split> {
+    let scene = scene::build("cloth", &peer_options())?;
+    let (grid, grid_rest) = metrics::axis_aligned_edges(&scene);
+    let mut sv = CpuSolver::<Vec3>::new(scene);
+    let s = Settings { iterations, substeps, threads: backend.threads(), ..Settings::default() };
+    let (mut ms, mut stretch_grid, mut stretch_all) = (0.0, 0.0, 0.0);
+    for _ in 0..frames {
+        let t0 = Instant::now();
+        sv.step_frame(&s);
+        ms += t0.elapsed().as_secs_f64() * 1e3;
+        let x = &sv.particles.x;
+        stretch_grid += metrics::stretch(&grid, &grid_rest, x).0;
+        stretch_all += metrics::stretch(&sv.scene().edges, &sv.scene().edge_rest, x).0;
+    }
+    let n = frames.max(1) as f64;
+    Ok(Split {
+        iterations,
+        substeps,
+        backend,
+        frames,
+        mean_ms: ms / n,
+        stretch_grid: stretch_grid / n,
+        stretch_all: stretch_all / n,
+    })
+}
+
+/// The split with the smallest grid stretch on `backend` (the most accurate).
+pub fn most_accurate(splits: &[Split], backend: Backend) -> Option<&Split> {
+    splits.iter().filter(|s| s.backend == backend).min_by(|a, b| a.stretch_grid.total_cmp(&b.stretch_grid))
+}

@@ -1,0 +1,94 @@
+//! Frame timing: warm-up, then the median of many frames within a time budget.
+
+use std::time::Instant;
+
+/// How long to time one configuration: frame counts and wall-clock limits, so that a cloth of a
+/// million constraints gets a few frames and a small one a few hundred.
+#[derive(Clone, Copy, Debug)]
+pub struct Budget {
+    /// Warm-up frames at most (at least one is run).
+    pub warm_frames: u32,
+    /// Warm-up stops after this many seconds.
+    pub warm_seconds: f64,
+    /// Measured frames at most.
+    pub frames: u32,
+    /// Measured frames at least, whatever the time.
+    pub min_frames: u32,
+    /// Measuring stops after this many seconds (once `min_frames` are in).
+    pub seconds: f64,
+}
+
+/// The measured frames of one configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timing {
+    /// Frames measured (after the warm-up).
+    pub frames: u32,
+    /// Median wall time of one frame (ms).
+    pub median_ms: f64,
+}
+
+/// Runs `frame` through the warm-up and the measured frames of `b`; each call is one whole frame,
+/// waited for.
+pub fn time_frames(b: &Budget, mut frame: impl FnMut() -> anyhow::Result<()>) -> anyhow::Result<Timing> {
+    let start = Instant::now();
+    for i in 0..b.warm_frames.max(1) {
+        if i > 0 && start.elapsed().as_secs_f64() >= b.warm_seconds {
+            break;
+        }
+        frame()?;
+    }
+    let start = Instant::now();
+    let mut t = Vec::with_capacity(b.frames as usize);
+    while (t.len() as u32) < b.frames.max(1) {
+        if t.len() as u32 >= b.min_frames.max(1) && start.elapsed().as_secs_f64() >= b.seconds {
+            break;
+        }
+        let t0 = Instant::now();
+        frame()?;
+        t.push(t0.elapsed().as_secs_f64() * 1e3);
+    }
+    Ok(Timing { frames: t.len() as u32, median_ms: median(&mut t) })
+}
+
+/// The median of `t` (the mean of the two middle values for an even count; NaN when empty).
+pub fn median(t: &mut [f64]) -> f64 {
+    if t.is_empty() {
+        return f64::NAN;
+    }
+    t.sort_by(f64::total_cmp);
+    let m = t.len() / 2;
+    if t.len() % 2 == 1 { t[m] } else { 0.5 * (t[m - 1] + t[m]) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 3.0, 2.0]), 2.5);
+        assert!(median(&mut []).is_nan());
+    }
+
+    #[test]
+    fn budget_bounds_the_frame_count() {
+        let b = Budget { warm_frames: 3, warm_seconds: 10.0, frames: 7, min_frames: 2, seconds: 10.0 };
+        let mut calls = 0;
+        let t = time_frames(&b, || {
+            calls += 1;
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!((t.frames, calls), (7, 10));
+        // A zero time limit still measures `min_frames`.
+        let b = Budget { seconds: 0.0, warm_seconds: 0.0, ..b };
+        let mut calls = 0;
+        let t = time_frames(&b, || {
+            calls += 1;
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!((t.frames, calls), (2, 3));
+    }
+}
