@@ -333,6 +333,42 @@ pub fn cases() -> Vec<Case> {
         BOTH,
         CPU,
     );
+    // The bunny: the volumetric Neo-Hookean body (an 8-cell lattice, 648 tetrahedra, to keep the
+    // full study short) under the same hard conditions.
+    let bunny =
+        |young: f64, gravity: bool| SceneOptions { lattice: Some(8), young, gravity, ..SceneOptions::default() };
+    let bunny_cases: [(&'static str, &'static str, &str, SceneOptions, Settings, Modify); 5] = [
+        ("bunny-drop", "bunny", "dropped on the ground, E 2e6 Pa", bunny(2.0e6, true), base, Modify::None),
+        ("bunny-E1e9", "bunny", "dropped on the ground, E 1e9 Pa", bunny(1.0e9, true), base, Modify::None),
+        (
+            "bunny-dt1e-1",
+            "bunny",
+            "dropped on the ground, E 2e6 Pa, dt 1/10",
+            bunny(2.0e6, true),
+            Settings { dt: 0.1, ..base },
+            Modify::None,
+        ),
+        (
+            "bunny-inverted",
+            "bunny",
+            "mirrored (every tetrahedron inverted), E 2e6 Pa, no gravity",
+            bunny(2.0e6, false),
+            base,
+            Modify::Mirror,
+        ),
+        (
+            "bunny-velocity-100",
+            "bunny",
+            "on the ground, every particle at a random 100 m/s",
+            bunny(2.0e6, true),
+            base,
+            Modify::Velocity { speed: 100.0, seed: 17 },
+        ),
+    ];
+    for (name, group, what, options, settings, modify) in bunny_cases {
+        let d = format!("volumetric Neo-Hookean bunny (lattice 8, 648 tets), {what}");
+        add(name, group, d, "bunny", options, settings, modify, 3.0, BOTH, NONE);
+    }
     out
 }
 

@@ -128,19 +128,23 @@ impl<V: Vector> CpuSolver<V> {
             self.ledger.carried = None;
         }
         self.parallel = s.threads != 1;
-        match self.thread_pool(s.threads) {
-            Some(pool) => pool.install(|| self.substeps(s, &k)),
-            None => self.substeps(s, &k),
+        // The frame itself runs on a worker of the pool, so splitting a group is a cheap fork
+        // onto a sibling worker instead of a wake-up from outside the pool.
+        match s.threads {
+            1 => self.substeps(s, &k),
+            0 => rayon::scope(|_| self.substeps(s, &k)),
+            n => match self.thread_pool(n) {
+                Some(pool) => pool.install(|| self.substeps(s, &k)),
+                None => self.substeps(s, &k),
+            },
         }
         self.last = Some(k);
     }
 
-    /// The pool for an explicit thread count above one; `None` runs on the calling thread and,
-    /// for groups split over threads, on rayon's global pool (every core).
+    /// The pool for an explicit thread count `threads` ≥ 2 (built on first use, kept while the
+    /// count stays the same; `None`, one thread, if the system refuses the threads); `threads = 0`
+    /// uses rayon's global pool (every core).
     fn thread_pool(&mut self, threads: u32) -> Option<Arc<rayon::ThreadPool>> {
-        if threads <= 1 {
-            return None;
-        }
         if self.pool.as_ref().is_none_or(|(n, _)| *n != threads) {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads as usize).build().ok()?;
             self.pool = Some((threads, Arc::new(pool)));

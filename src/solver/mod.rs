@@ -84,8 +84,10 @@ pub struct Settings {
 }
 
 /// Smallest color group (elements) that the CPU solver splits over threads. Below it the fork and
-/// join of a group cost more than its projections save (measured in `BENCHMARKS.md`).
-pub const PARALLEL_MIN_GROUP: usize = 1000;
+/// join of a group (a few microseconds) cost more than its projections save. Measured on two
+/// cores (`BENCHMARKS.md`): neutral on the 41×41 cloth (groups of about 800 springs and 400
+/// bends), 1.5× on the 64×64 peer cloth (about 2,000 and 900), 1.4–1.5× from 90×90 up.
+pub const PARALLEL_MIN_GROUP: usize = 400;
 
 impl Default for Settings {
     fn default() -> Self {
