@@ -138,19 +138,7 @@ fn draw_panel<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotters
             chart.draw_series(points.map(|p| Circle::new(p, 4, color.filled()))).map_err(plot_error)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 12))
-        .position(match panel.legend {
-            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-            Legend::LowerRight => SeriesLabelPosition::LowerRight,
-            Legend::UpperRight => SeriesLabelPosition::UpperRight,
-        })
-        .draw()
-        .map_err(plot_error)?;
-    Ok(())
+    draw_legend(&mut chart, panel.legend)
 }
 
 /// Writes one chart with logarithmic axes (both positive; other points are left out) to `path`,
@@ -209,19 +197,7 @@ fn draw_log_log<DB: DrawingBackend>(panel: &Panel, area: &DrawingArea<DB, plotte
             chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, color.filled()))).map_err(plot_error)?;
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 12))
-        .position(match panel.legend {
-            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
-            Legend::LowerRight => SeriesLabelPosition::LowerRight,
-            Legend::UpperRight => SeriesLabelPosition::UpperRight,
-        })
-        .draw()
-        .map_err(plot_error)?;
-    Ok(())
+    draw_legend(&mut chart, panel.legend)
 }
 
 /// A logarithmic axis label: 1, 2 and 5 times a power of ten, compact (`20k`, `1M`, `0.5`);
@@ -259,4 +235,23 @@ mod tests {
         assert_eq!(log_label(&100.0), "100");
         assert_eq!(log_label(&30_000.0), "");
     }
+}
+
+/// The series labels of `chart`, boxed, at the panel's legend corner.
+fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    legend: Legend,
+) -> Result<()> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 12))
+        .position(match legend {
+            Legend::LowerLeft => SeriesLabelPosition::LowerLeft,
+            Legend::LowerRight => SeriesLabelPosition::LowerRight,
+            Legend::UpperRight => SeriesLabelPosition::UpperRight,
+        })
+        .draw()
+        .map_err(plot_error)
 }
