@@ -223,20 +223,6 @@ fn log_label(v: &f64) -> String {
     format!("{text}{suffix}")
 }
 
-#[cfg(test)]
-mod tests {
-    use super::log_label;
-
-    #[test]
-    fn log_labels_name_one_two_five_only() {
-        assert_eq!(log_label(&20_000.0), "20k");
-        assert_eq!(log_label(&1_000_000.0), "1M");
-        assert_eq!(log_label(&0.5), "0.5");
-        assert_eq!(log_label(&100.0), "100");
-        assert_eq!(log_label(&30_000.0), "");
-    }
-}
-
 /// The series labels of `chart`, boxed, at the panel's legend corner.
 fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>(
     chart: &mut ChartContext<'a, DB, CT>,
@@ -254,4 +240,18 @@ fn draw_legend<'a, DB: DrawingBackend + 'a, CT: plotters::coord::CoordTranslate>
         })
         .draw()
         .map_err(plot_error)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::log_label;
+
+    #[test]
+    fn log_labels_name_one_two_five_only() {
+        assert_eq!(log_label(&20_000.0), "20k");
+        assert_eq!(log_label(&1_000_000.0), "1M");
+        assert_eq!(log_label(&0.5), "0.5");
+        assert_eq!(log_label(&100.0), "100");
+        assert_eq!(log_label(&30_000.0), "");
+    }
 }
