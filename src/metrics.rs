@@ -109,6 +109,21 @@ pub struct StateView<'a, V: Vector> {
     pub dissipated: f64,
 }
 
+impl<'a, V: Vector> StateView<'a, V> {
+    /// A CPU solver's current state.
+    pub fn of_solver(solver: &'a CpuSolver<V>) -> Self {
+        let p = &solver.particles;
+        StateView {
+            x: &p.x,
+            v: &p.v,
+            w: &p.w,
+            lambdas: solver.lambdas(),
+            constants: solver.last_constants(),
+            dissipated: solver.ledger.dissipated,
+        }
+    }
+}
+
 /// What is reported for a frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameStats {
@@ -150,16 +165,7 @@ impl FrameStats {
 
     /// Measures a CPU solver's current state.
     pub fn measure<V: Vector>(solver: &CpuSolver<V>, frame: u32, time_ms: f64) -> Self {
-        let p = &solver.particles;
-        let state = StateView {
-            x: &p.x,
-            v: &p.v,
-            w: &p.w,
-            lambdas: solver.lambdas(),
-            constants: solver.last_constants(),
-            dissipated: solver.ledger.dissipated,
-        };
-        Self::of_state(solver.scene(), &state, frame, time_ms)
+        Self::of_state(solver.scene(), &StateView::of_solver(solver), frame, time_ms)
     }
 
     /// Measures any backend's state of `scene`.

@@ -83,6 +83,20 @@ pub struct GpuState {
     pub dissipated: f64,
 }
 
+impl GpuState {
+    /// The state to measure, with the constants of the substep that produced it (if known).
+    pub fn view<'a>(&'a self, constants: Option<&'a StepConstants<f32>>) -> StateView<'a, Vec3> {
+        StateView {
+            x: &self.x,
+            v: &self.v,
+            w: &self.w,
+            lambdas: std::array::from_fn(|i| self.lambdas[i].as_slice()),
+            constants,
+            dissipated: self.dissipated,
+        }
+    }
+}
+
 /// One scene on the GPU: particle buffers (`x` is `STORAGE | VERTEX`, read by the renderer), the
 /// buffers of the families the scene has and nothing else, and the recorded stage list.
 #[derive(Debug)]
@@ -649,15 +663,7 @@ impl GpuSolver {
     pub fn stats(&self, frame: u32, time_ms: f64) -> Result<FrameStats> {
         let st = self.read_state()?;
         let k = self.last.as_ref().map(StepConstants::<f32>::new);
-        let view = StateView {
-            x: &st.x,
-            v: &st.v,
-            w: &st.w,
-            lambdas: std::array::from_fn(|i| st.lambdas[i].as_slice()),
-            constants: k.as_ref(),
-            dissipated: st.dissipated,
-        };
-        Ok(FrameStats::of_state(&self.scene, &view, frame, time_ms))
+        Ok(FrameStats::of_state(&self.scene, &st.view(k.as_ref()), frame, time_ms))
     }
 }
 

@@ -522,32 +522,14 @@ fn mean_edge(scene: &Scene, x: &[Vec3]) -> f64 {
 fn measure(sim: &Simulation, measure: &Scene, frame: u32) -> Result<(FrameStats, Vec<Vec3>)> {
     match sim {
         Simulation::Cpu(c) => {
-            let p = &c.particles;
-            let view = StateView {
-                x: &p.x,
-                v: &p.v,
-                w: &p.w,
-                lambdas: c.lambdas(),
-                constants: c.last_constants(),
-                dissipated: c.ledger.dissipated,
-            };
-            Ok((FrameStats::of_state(measure, &view, frame, 0.0), p.x.clone()))
+            Ok((FrameStats::of_state(measure, &StateView::of_solver(c), frame, 0.0), c.particles.x.clone()))
         }
         Simulation::Gpu(g) => {
             if std::ptr::eq(g.scene(), measure) {
                 return Ok((g.stats(frame, 0.0)?, g.read_positions()?));
             }
             let st = g.read_state()?;
-            let k = st.lambdas.clone();
-            let view = StateView {
-                x: &st.x,
-                v: &st.v,
-                w: &st.w,
-                lambdas: std::array::from_fn(|i| k[i].as_slice()),
-                constants: None,
-                dissipated: st.dissipated,
-            };
-            Ok((FrameStats::of_state(measure, &view, frame, 0.0), st.x.clone()))
+            Ok((FrameStats::of_state(measure, &st.view(None), frame, 0.0), st.x.clone()))
         }
     }
 }
