@@ -4,6 +4,7 @@ mod grid;
 mod lattice;
 mod load;
 mod obj;
+mod order;
 mod refine;
 mod tetgen;
 mod tetmesh;

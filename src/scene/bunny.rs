@@ -95,7 +95,12 @@ pub(super) fn build(kind: Kind, o: &SceneOptions, surface: Option<TriMesh>) -> R
         Kind::Paper => ("bunny-paper", o.body.unwrap_or(Body::Springs), 0.25),
     };
     let mut surface = match kind {
-        Kind::Paper => surface.refine_to_faces(PAPER_FACES),
+        Kind::Paper => {
+            // Refinement appends its vertices at the end; renumber them all in space.
+            let mut s = surface.refine_to_faces(PAPER_FACES);
+            s.reorder_spatially();
+            s
+        }
         Kind::Drop => surface,
     };
     for p in &mut surface.positions {

@@ -9,9 +9,15 @@ use super::Particles;
 
 /// Projects every free particle out of the scene's colliders.
 pub(crate) fn project_contacts<V: Vector>(scene: &Scene, p: &mut Particles<V>) {
-    for i in 0..p.len() {
-        if p.w[i] > V::S::zero() {
-            p.x[i] = project_particle(scene, p.x[i], p.x_prev[i]);
+    project_range(scene, &mut p.x, &p.x_prev, &p.w);
+}
+
+/// Projects the free particles of a range (positions `x`, substep starts `x_prev`, inverse masses
+/// `w`, index for index) out of the scene's colliders.
+pub(crate) fn project_range<V: Vector>(scene: &Scene, x: &mut [V], x_prev: &[V], w: &[V::S]) {
+    for i in 0..x.len() {
+        if w[i] > V::S::zero() {
+            x[i] = project_particle(scene, x[i], x_prev[i]);
         }
     }
 }

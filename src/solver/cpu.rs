@@ -4,20 +4,20 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use rayon::prelude::*;
-
 use crate::constraints::simd::is_f32;
 use crate::constraints::{Element, Form, Positions, gather};
 use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 
-use super::contacts::{project_contacts, project_particle};
+use super::contacts::project_contacts;
 use super::energy::{EnergyAware, global_scale, local_constraint};
 use super::jacobi;
-use super::shared::SharedPositions;
+use super::particles;
 use super::xpbd::{StepConstants, solve_element};
-use super::{Method, PARALLEL_MIN_GROUP, Particles, Settings};
+use super::{Method, Particles, Settings};
+
+mod team;
 
 /// Per-family solver state: one multiplier per constraint, Jacobi's per-constraint scale, and
 /// the local mode's energy at the start of the substep.
@@ -74,9 +74,9 @@ pub struct CpuSolver<V: Vector> {
     rest_com: Vec3,
     /// Constants of the last substep run (for residuals).
     last: Option<StepConstants<V::S>>,
-    /// Split large color groups over threads (`Settings::threads` ≠ 1).
-    parallel: bool,
-    /// The pool of an explicit thread count above one (built on first use).
+    /// The finish pass's work per block of particles ([`particles::WORK_BLOCK`]).
+    work_blocks: Vec<f64>,
+    /// The solver's pool for a thread count above one (built on first use).
     pool: Option<(u32, Arc<rayon::ThreadPool>)>,
 }
 
@@ -98,7 +98,7 @@ impl<V: Vector> CpuSolver<V> {
             ledger: EnergyLedger { last_scale: 1.0, ..EnergyLedger::default() },
             rest_com: scene.rest_center_of_mass(),
             last: None,
-            parallel: false,
+            work_blocks: vec![0.0; n.div_ceil(particles::WORK_BLOCK)],
             pool: None,
             scene,
         }
@@ -127,12 +127,15 @@ impl<V: Vector> CpuSolver<V> {
         if s.energy_aware != EnergyAware::Global {
             self.ledger.carried = None;
         }
-        self.parallel = s.threads != 1;
-        // The frame itself runs on a worker of the pool, so splitting a group is a cheap fork
-        // onto a sibling worker instead of a wake-up from outside the pool.
-        match s.threads {
+        // The frame runs on a worker of the solver's own pool, whose threads sweep the large
+        // groups as a team (a pool of its own: a team waits at spin barriers, which must not meet
+        // unrelated work on a shared pool).
+        let threads = match s.threads {
+            0 => rayon::current_num_threads() as u32,
+            n => n,
+        };
+        match threads {
             1 => self.substeps(s, &k),
-            0 => rayon::scope(|_| self.substeps(s, &k)),
             n => match self.thread_pool(n) {
                 Some(pool) => pool.install(|| self.substeps(s, &k)),
                 None => self.substeps(s, &k),
@@ -141,9 +144,8 @@ impl<V: Vector> CpuSolver<V> {
         self.last = Some(k);
     }
 
-    /// The pool for an explicit thread count `threads` ≥ 2 (built on first use, kept while the
-    /// count stays the same; `None`, one thread, if the system refuses the threads); `threads = 0`
-    /// uses rayon's global pool (every core).
+    /// The solver's pool of `threads` ≥ 2 threads (built on first use, kept while the count
+    /// stays the same; `None`, one thread, if the system refuses the threads).
     fn thread_pool(&mut self, threads: u32) -> Option<Arc<rayon::ThreadPool>> {
         if self.pool.as_ref().is_none_or(|(n, _)| *n != threads) {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads as usize).build().ok()?;
@@ -153,6 +155,9 @@ impl<V: Vector> CpuSolver<V> {
     }
 
     fn substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+        if self.team_applies(s, k) {
+            return self.team_substeps(s, k);
+        }
         for _ in 0..s.substeps {
             self.substep(s, k);
         }
@@ -196,8 +201,7 @@ impl<V: Vector> CpuSolver<V> {
                     crate::for_each_family!(self.scene, |i, f| {
                         let st = &mut self.fam[i];
                         let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-                        let parallel = self.parallel && st.disjoint;
-                        gauss_seidel(f, &mut st.lambda, &mut self.particles, k, ctx, parallel)
+                        gauss_seidel(f, &mut st.lambda, &mut self.particles, k, ctx)
                     });
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
@@ -244,44 +248,15 @@ impl<V: Vector> CpuSolver<V> {
     fn predict(&mut self, h: V::S) {
         let g = V::from_vec3(self.scene.gravity);
         let p = &mut self.particles;
-        for i in 0..p.len() {
-            p.x_prev[i] = p.x[i];
-            if p.w[i] > V::S::zero() {
-                p.v[i] += g * h;
-                p.x[i] += p.v[i] * h;
-            } else {
-                p.v[i] = V::ZERO;
-            }
-        }
+        particles::predict(&mut p.x, &mut p.x_prev, &mut p.v, &p.w, g, h);
     }
 
-    /// The final contact pass and the velocity update; returns the work of physical dissipation
-    /// `W` (J, ≤ 0 for losses): the kinetic energy the contact pass and the velocity damping
-    /// changed, with velocities `(x − x_prev)/h` before and after the pass.
+    /// The final contact pass and the velocity update ([`particles::finish`]); returns the work of
+    /// physical dissipation `W` (J, ≤ 0 for losses), summed block by block.
     fn finish(&mut self, h: V::S, damping: V::S) -> f64 {
-        let keep = (V::S::one() - damping * h).max(V::S::zero());
-        let inv_h = V::S::one() / h;
-        let (keep64, inv_h64) = (keep.to_f64(), inv_h.to_f64());
         let p = &mut self.particles;
-        let mut work = 0.0f64;
-        for i in 0..p.len() {
-            if p.w[i] > V::S::zero() {
-                let before = p.x[i];
-                p.x[i] = project_particle(&self.scene, before, p.x_prev[i]);
-                // Both terms vanish (exactly) for a particle the pass left alone without damping.
-                if p.x[i] != before || keep != V::S::one() {
-                    let m = 1.0 / p.w[i].to_f64();
-                    let vb = (before.to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
-                    let va = (p.x[i].to_dvec3() - p.x_prev[i].to_dvec3()) * inv_h64;
-                    work += 0.5 * m * (va.length_squared() - vb.length_squared());
-                    work += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
-                }
-                p.v[i] = (p.x[i] - p.x_prev[i]) * (inv_h * keep);
-            } else {
-                p.v[i] = V::ZERO;
-            }
-        }
-        work
+        particles::finish(&self.scene, &mut p.x, &p.x_prev, &mut p.v, &p.w, (h, damping), &mut self.work_blocks);
+        self.work_blocks.iter().sum()
     }
 
     fn prepare_jacobi(&mut self, omega: f32) {
@@ -394,14 +369,15 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
-    parallel: bool,
 ) {
     // Separate instantiations, so the plain sweep carries no trace of the local mode.
     match &local {
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
-        None if k.form == Form::Compliant && k.beta == V::S::zero() => plain_sweep(f, lambda, p, k, parallel),
+        None if k.form == Form::Compliant && k.beta == V::S::zero() => {
+            plain_sweep(f, lambda, &mut p.x, &p.x_prev, &p.w, k)
+        }
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }
@@ -409,30 +385,18 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 /// The sweep in the compliant form without constraint damping or the local mode: each element
 /// takes its family's lean kernel ([`Element::project_plain`], four at a time where the family has
 /// a SIMD kernel and the precision is `f32`) and falls back to the general update where that
-/// declines. Groups of at least [`PARALLEL_MIN_GROUP`] elements are split over threads when
-/// `parallel` (the family's groups were checked to share no particle).
+/// declines. (On several threads, [`team`] runs the same kernels.)
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
-    p: &mut Particles<V>,
+    x: &mut [V],
+    x_prev: &[V],
+    w: &[V::S],
     k: &StepConstants<V::S>,
-    parallel: bool,
 ) {
-    let lambda = &mut lambda[..f.elements.len()];
-    let (x_prev, w) = (&p.x_prev[..], &p.w[..]);
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
-        let (es, ls) = (&f.elements[lo..hi], &mut lambda[lo..hi]);
-        if parallel && es.len() >= PARALLEL_MIN_GROUP {
-            let shared = SharedPositions::new(&mut p.x);
-            let chunk = es.len().div_ceil(rayon::current_num_threads()).next_multiple_of(4);
-            es.par_chunks(chunk).zip(ls.par_chunks_mut(chunk)).for_each(|(es, ls)| {
-                let mut x = shared;
-                plain_chunk(es, ls, &f.params, &mut x, x_prev, w, k);
-            });
-        } else {
-            plain_chunk(es, ls, &f.params, &mut p.x[..], x_prev, w, k);
-        }
+        plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, w, k);
     }
 }
 

@@ -10,6 +10,7 @@
 //! 5. `v = (x − x_prev) / h`, then `v ← v (1 − β_v h)`;
 //! 6. with `--energy-aware global`, the energy balance of [`energy`] scales the velocities.
 
+mod barrier;
 mod contacts;
 mod cpu;
 pub mod energy;
@@ -76,18 +77,21 @@ pub struct Settings {
     pub energy_aware: EnergyAware,
     /// Successive over-relaxation `ω`: every `Δλ` is scaled by it (1 = plain).
     pub sor: f32,
-    /// CPU threads for the elements of one color group: 1 runs single-threaded, 0 uses every
-    /// core. Groups smaller than [`PARALLEL_MIN_GROUP`] always run on one thread (a color barrier
-    /// costs more than they do), and the result is the same for any count: the elements of a group
-    /// share no particle. The GPU backend ignores it.
+    /// CPU threads: 1 runs single-threaded, 0 uses every core. On several threads the solver's
+    /// pool runs each frame as a team that splits the per-particle passes and every color group
+    /// of at least [`PARALLEL_MIN_GROUP`] elements (Gauss-Seidel with the plain kernels: compliant
+    /// form, no constraint damping, energy-aware off; other settings run on one thread). The
+    /// result is the same for any count: the elements of a group share no particle. The GPU
+    /// backend ignores it.
     pub threads: u32,
 }
 
-/// Smallest color group (elements) that the CPU solver splits over threads. Below it the fork and
-/// join of a group (a few microseconds) cost more than its projections save. Measured on two
-/// cores (`BENCHMARKS.md`): neutral on the 41×41 cloth (groups of about 800 springs and 400
-/// bends), 1.5× on the 64×64 peer cloth (about 2,000 and 900), 1.4–1.5× from 90×90 up.
-pub const PARALLEL_MIN_GROUP: usize = 400;
+/// Smallest color group (elements) that the CPU solver splits over threads; smaller groups run
+/// whole on one thread of the team while the others wait at the group's barrier (about 0.2 µs on
+/// two cores). Measured on two cores (`BENCHMARKS.md`): 128 beats 400 on the 29×29 and 41×41
+/// cloths (1.4× and 1.6× over one thread against 0.85× and 0.9×) and equals it on larger ones;
+/// 32 is no faster than 128.
+pub const PARALLEL_MIN_GROUP: usize = 128;
 
 impl Default for Settings {
     fn default() -> Self {

@@ -1,7 +1,10 @@
-//! Particle state as a struct of arrays.
+//! Particle state as a struct of arrays, and the per-particle passes of a substep over a range of
+//! particles (the whole state, or one thread's share).
 
 use crate::math::prelude::*;
 use crate::scene::Scene;
+
+use super::contacts::project_particle;
 
 /// Particle state: positions, positions at the start of the substep, velocities, inverse
 /// masses. Pinned particles have inverse mass 0.
@@ -42,5 +45,62 @@ impl<V: Vector> Particles<V> {
     /// Mass of particle `i` (kg), 0 for a pinned particle (left out of mass-weighted sums).
     pub fn mass(&self, i: usize) -> V::S {
         if self.w[i] > V::S::zero() { V::S::one() / self.w[i] } else { V::S::zero() }
+    }
+}
+
+/// Particles per block of the finish pass's work sum: the sum runs block by block and the block
+/// sums are added in order, so it comes out the same however the blocks are split over threads.
+pub(crate) const WORK_BLOCK: usize = 256;
+
+/// The prediction of a substep of `h` seconds over a range of particles: `x_prev = x`, then free
+/// particles take `v += g h`, `x += v h`; pinned ones keep `x` and get `v = 0`.
+pub(crate) fn predict<V: Vector>(x: &mut [V], x_prev: &mut [V], v: &mut [V], w: &[V::S], g: V, h: V::S) {
+    for i in 0..x.len() {
+        x_prev[i] = x[i];
+        if w[i] > V::S::zero() {
+            v[i] += g * h;
+            x[i] += v[i] * h;
+        } else {
+            v[i] = V::ZERO;
+        }
+    }
+}
+
+/// The final contact pass and the velocity update over a range of particles that starts at a
+/// block boundary: `v = (x − x_prev)/h · keep` with `keep = max(1 − β_v h, 0)`. Writes, per
+/// [`WORK_BLOCK`] particles, the work of physical dissipation (J, ≤ 0 for losses): the kinetic
+/// energy the contact pass and the damping changed, with velocities `(x − x_prev)/h` before and
+/// after the pass.
+pub(crate) fn finish<V: Vector>(
+    scene: &Scene,
+    x: &mut [V],
+    x_prev: &[V],
+    v: &mut [V],
+    w: &[V::S],
+    (h, damping): (V::S, V::S),
+    work: &mut [f64],
+) {
+    let keep = (V::S::one() - damping * h).max(V::S::zero());
+    let inv_h = V::S::one() / h;
+    let (keep64, inv_h64) = (keep.to_f64(), inv_h.to_f64());
+    for (b, sum) in work.iter_mut().enumerate() {
+        *sum = 0.0;
+        for i in b * WORK_BLOCK..((b + 1) * WORK_BLOCK).min(x.len()) {
+            if w[i] > V::S::zero() {
+                let before = x[i];
+                x[i] = project_particle(scene, before, x_prev[i]);
+                // Both terms vanish (exactly) for a particle the pass left alone without damping.
+                if x[i] != before || keep != V::S::one() {
+                    let m = 1.0 / w[i].to_f64();
+                    let vb = (before.to_dvec3() - x_prev[i].to_dvec3()) * inv_h64;
+                    let va = (x[i].to_dvec3() - x_prev[i].to_dvec3()) * inv_h64;
+                    *sum += 0.5 * m * (va.length_squared() - vb.length_squared());
+                    *sum += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
+                }
+                v[i] = (x[i] - x_prev[i]) * (inv_h * keep);
+            } else {
+                v[i] = V::ZERO;
+            }
+        }
     }
 }

@@ -1,16 +1,22 @@
-//! Particle positions written by several threads at once, for the elements of one color group.
+//! Particle positions and multipliers written by several threads at once, for the elements of one
+//! color group.
 //!
 //! This is the crate's one use of `unsafe`. It is sound because of the coloring: within a color
 //! group no two elements share a particle ([`crate::coloring`], checked by its tests and by
 //! [`crate::coloring::Coloring::validate`]), so the threads that split a group read and write
-//! disjoint sets of indices, and the positions are not otherwise touched until the group joins.
+//! disjoint sets of particle indices; each thread takes a disjoint range of the group's elements
+//! ([`super::barrier::share`]) and so of their multipliers, and of the particles in the
+//! per-particle passes; and no thread touches another's share until every thread has passed the
+//! next barrier ([`super::barrier::SpinBarrier`]). An array is read whole only in a phase in which
+//! no thread writes it (the substep-start positions during the sweeps).
 #![allow(unsafe_code)]
 
 use std::marker::PhantomData;
 
 use crate::constraints::Positions;
 
-/// A mutable slice shared by the workers of one color group (see the module documentation).
+/// A mutable slice shared by the workers of one color group (see the module documentation):
+/// positions indexed by particle, or multipliers indexed by element.
 #[derive(Clone, Copy)]
 pub(crate) struct SharedPositions<'a, V> {
     ptr: *mut V,
@@ -27,6 +33,29 @@ impl<'a, V> SharedPositions<'a, V> {
     /// Shares `x` for the duration of the borrow.
     pub fn new(x: &'a mut [V]) -> Self {
         SharedPositions { ptr: x.as_mut_ptr(), len: x.len(), _borrow: PhantomData }
+    }
+}
+
+impl<V> SharedPositions<'_, V> {
+    /// The elements `range` as a slice of their own, for the one worker that owns that range in
+    /// the current group (no other worker's range overlaps it; module docs).
+    pub fn range_mut(&mut self, range: std::ops::Range<usize>) -> &mut [V] {
+        assert!(range.start <= range.end && range.end <= self.len, "range {range:?} out of 0..{}", self.len);
+        // SAFETY: in bounds (checked above); the range is this worker's alone until the barrier.
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.len()) }
+    }
+}
+
+impl<V> SharedPositions<'_, V> {
+    /// The whole array for reading, in a phase in which no worker writes it (module docs).
+    pub fn read_all(&self) -> &[V] {
+        // SAFETY: the pointer and length come from a live `&mut [V]`; nothing writes it meanwhile.
+        unsafe { std::slice::from_raw_parts(self.ptr, self.len) }
+    }
+
+    /// Number of items.
+    pub fn len(&self) -> usize {
+        self.len
     }
 }
 

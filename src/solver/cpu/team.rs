@@ -1,0 +1,169 @@
+//! The frame on several threads: every thread of the solver's pool runs the whole substep loop as
+//! one team. Each takes its share of the particles in the per-particle passes and of each large
+//! color group in the sweeps, and the team meets at a spin barrier after each group and pass, so
+//! one frame costs one wake-up of the pool instead of a fork and join per group. The elements of
+//! a group share no particle and the passes touch each particle alone, so the positions come out
+//! the same, bit for bit, for any thread count.
+
+use crate::math::prelude::*;
+use crate::scene::{FAMILY_COUNT, Family};
+
+use super::super::barrier::{SpinBarrier, share};
+use super::super::contacts::project_range;
+use super::super::energy::EnergyAware;
+use super::super::particles::{self, WORK_BLOCK};
+use super::super::shared::SharedPositions;
+use super::super::xpbd::StepConstants;
+use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
+use super::{CpuSolver, plain_chunk};
+use crate::constraints::{Element, Form};
+
+/// Per-thread handles on the solver's arrays (copies of one set of shared views).
+#[derive(Clone, Copy)]
+struct Views<'a, V: Vector> {
+    x: SharedPositions<'a, V>,
+    x_prev: SharedPositions<'a, V>,
+    v: SharedPositions<'a, V>,
+    work: SharedPositions<'a, f64>,
+    lambda: [SharedPositions<'a, V::S>; FAMILY_COUNT],
+}
+
+/// What one thread of the team is.
+struct Member<'a> {
+    t: usize,
+    threads: usize,
+    barrier: &'a SpinBarrier,
+}
+
+impl<V: Vector> CpuSolver<V> {
+    /// `true` when `s` runs on the team: Gauss-Seidel with the plain kernels (compliant form, no
+    /// constraint damping, energy-aware off) on a pool of more than one thread, with groups large
+    /// enough to split.
+    pub(super) fn team_applies(&self, s: &Settings, k: &StepConstants<V::S>) -> bool {
+        s.method == Method::GaussSeidel
+            && s.energy_aware == EnergyAware::Off
+            && k.form == Form::Compliant
+            && k.beta == V::S::zero()
+            && rayon::current_thread_index().is_some()
+            && rayon::current_num_threads() > 1
+            && self.large_groups()
+    }
+
+    /// `true` when some family the threads may split has a group of at least
+    /// [`PARALLEL_MIN_GROUP`] elements (else one thread does it all, faster).
+    fn large_groups(&self) -> bool {
+        let mut large = false;
+        crate::for_each_family!(self.scene, |i, f| {
+            large |= self.fam[i].disjoint && f.colors.iter().any(|r| r.len() >= PARALLEL_MIN_GROUP)
+        });
+        large
+    }
+
+    /// The frame's substeps on every thread of the current pool (see the module documentation).
+    pub(super) fn team_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+        let threads = rayon::current_num_threads();
+        let barrier = SpinBarrier::new(threads);
+        let n = self.particles.len();
+        let blocks = self.work_blocks.len();
+        let scene = &self.scene;
+        let disjoint = self.fam.each_ref().map(|st| st.disjoint);
+        let p = &mut self.particles;
+        let w = &p.w[..];
+        let views = Views {
+            x: SharedPositions::new(&mut p.x),
+            x_prev: SharedPositions::new(&mut p.x_prev),
+            v: SharedPositions::new(&mut p.v),
+            work: SharedPositions::new(&mut self.work_blocks),
+            lambda: self.fam.each_mut().map(|st| SharedPositions::new(&mut st.lambda[..])),
+        };
+        let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
+        let dissipated = self.ledger.dissipated;
+        let totals = rayon::broadcast(|ctx| {
+            let me = Member { t: ctx.index(), threads, barrier: &barrier };
+            let mut v = views;
+            let my_blocks = share(0..blocks, me.t, threads, 1);
+            let mine = (my_blocks.start * WORK_BLOCK).min(n)..(my_blocks.end * WORK_BLOCK).min(n);
+            let mut dissipated = dissipated;
+            for _ in 0..s.substeps {
+                let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
+                particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
+                for l in &mut v.lambda {
+                    let r = share(0..l.len(), me.t, threads, 1);
+                    l.range_mut(r).fill(V::S::zero());
+                }
+                barrier.wait();
+                for _ in 0..s.iterations {
+                    crate::for_each_family!(scene, |i, f| {
+                        let mut lambda = v.lambda[i];
+                        team_sweep(f, &mut lambda, &mut v.x, v.x_prev.read_all(), w, k, &me, disjoint[i])
+                    });
+                    project_range(
+                        scene,
+                        v.x.range_mut(mine.clone()),
+                        &v.x_prev.read_all()[mine.clone()],
+                        &w[mine.clone()],
+                    );
+                    barrier.wait();
+                }
+                let x_prev = &v.x_prev.read_all()[mine.clone()];
+                let (x, vel) = (v.x.range_mut(mine.clone()), v.v.range_mut(mine.clone()));
+                particles::finish(
+                    scene,
+                    x,
+                    x_prev,
+                    vel,
+                    &w[mine.clone()],
+                    (k.h, damping),
+                    v.work.range_mut(my_blocks.clone()),
+                );
+                barrier.wait();
+                // Thread 0 adds the blocks in order before the next substep's first barrier, and
+                // no thread writes them again before its next finish pass.
+                if me.t == 0 {
+                    dissipated += v.work.read_all().iter().sum::<f64>();
+                }
+            }
+            dissipated
+        });
+        self.ledger.dissipated = totals[0];
+    }
+}
+
+/// One Gauss-Seidel sweep of family `f` by the team: each thread takes its share of every group
+/// of at least [`PARALLEL_MIN_GROUP`] elements and thread 0 the smaller groups whole, with a
+/// barrier after each group. A family whose groups were not checked disjoint runs whole on
+/// thread 0.
+fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
+    f: &Family<E, N>,
+    lambda: &mut SharedPositions<'_, V::S>,
+    x: &mut SharedPositions<'_, V>,
+    x_prev: &[V],
+    w: &[V::S],
+    k: &StepConstants<V::S>,
+    me: &Member<'_>,
+    disjoint: bool,
+) {
+    if !disjoint {
+        if me.t == 0 {
+            let x = x.range_mut(0..x.len());
+            for range in &f.colors {
+                let group = range.start as usize..range.end as usize;
+                plain_chunk(&f.elements[group.clone()], lambda.range_mut(group), &f.params, x, x_prev, w, k);
+            }
+        }
+        me.barrier.wait();
+        return;
+    }
+    for range in &f.colors {
+        let group = range.start as usize..range.end as usize;
+        let mine = match group.len() >= PARALLEL_MIN_GROUP {
+            true => share(group, me.t, me.threads, 4),
+            false if me.t == 0 => group,
+            false => 0..0,
+        };
+        if !mine.is_empty() {
+            plain_chunk(&f.elements[mine.clone()], lambda.range_mut(mine), &f.params, x, x_prev, w, k);
+        }
+        me.barrier.wait();
+    }
+}
