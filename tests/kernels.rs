@@ -158,18 +158,24 @@ fn threads_give_the_same_result_as_one_thread() {
 }
 
 #[test]
-fn team_frames_match_one_thread_with_contacts_substeps_and_damping() {
+fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
     // Substeps, contacts against the sphere and damping exercise every pass the team splits; the
-    // refined bunny surface has elements that spread over the particle arrays.
+    // refined bunny surface has elements that spread over the particle arrays; the energy form
+    // and constraint damping take the general update instead of the lean kernels.
+    use eapbd::constraints::Form;
+    let cloth = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
+    let base = Settings { iterations: 3, substeps: 4, damping: 0.5, ..Settings::default() };
     let cases = [
-        ("cloth-sphere", SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() }),
-        ("bunny-paper", SceneOptions::default()),
+        ("cloth-sphere", cloth.clone(), base),
+        ("bunny-paper", SceneOptions::default(), base),
+        ("cloth-sphere", cloth.clone(), Settings { form: Form::Energy, ..base }),
+        ("cloth-sphere", cloth, Settings { constraint_damping: 1e-3, ..base }),
     ];
-    for (name, opts) in cases {
+    for (name, opts, settings) in cases {
         let run = |threads| {
             let mut s = CpuSolver::<Vec3>::new(scene::build(name, &opts).unwrap());
-            let settings = Settings { iterations: 3, substeps: 4, damping: 0.5, threads, ..Settings::default() };
-            for _ in 0..40 {
+            let settings = Settings { threads, ..settings };
+            for _ in 0..30 {
                 s.step_frame(&settings);
             }
             (s.particles.x, s.particles.v, s.ledger.dissipated)
@@ -178,9 +184,11 @@ fn team_frames_match_one_thread_with_contacts_substeps_and_damping() {
         assert!(one.2 < 0.0, "{name}: damping and contacts dissipate ({})", one.2);
         for threads in [2, 3] {
             let many = run(threads);
-            assert_eq!(one.0, many.0, "{name}: positions, {threads} threads");
-            assert_eq!(one.1, many.1, "{name}: velocities, {threads} threads");
-            assert_eq!(one.2.to_bits(), many.2.to_bits(), "{name}: dissipated work, {threads} threads");
+            let what =
+                format!("{name}, {:?} form, β {}, {threads} threads", settings.form, settings.constraint_damping);
+            assert_eq!(one.0, many.0, "{what}: positions");
+            assert_eq!(one.1, many.1, "{what}: velocities");
+            assert_eq!(one.2.to_bits(), many.2.to_bits(), "{what}: dissipated work");
         }
     }
 }

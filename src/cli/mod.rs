@@ -162,9 +162,9 @@ pub struct SceneArgs {
     /// Successive over-relaxation ω (every Δλ times ω; 1 = plain, 1.5 is the usual baseline).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub sor: f32,
-    /// CPU threads that split the color groups and particle passes of Gauss-Seidel with the plain
-    /// kernels (0 = every core, 1 = single-threaded; small groups run on one thread, other modes
-    /// single-threaded, and the result does not depend on the count).
+    /// CPU threads that split the color groups and particle passes of Gauss-Seidel with
+    /// energy-aware off (0 = every core, 1 = single-threaded; small groups, Jacobi and the
+    /// energy-aware modes run on one thread, and the result does not depend on the count).
     #[arg(long, default_value_t = 0)]
     pub threads: u32,
     /// Switch gravity off.

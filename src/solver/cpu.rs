@@ -155,7 +155,7 @@ impl<V: Vector> CpuSolver<V> {
     }
 
     fn substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
-        if self.team_applies(s, k) {
+        if self.team_applies(s) {
             return self.team_substeps(s, k);
         }
         for _ in 0..s.substeps {

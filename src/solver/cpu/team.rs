@@ -15,7 +15,7 @@ use super::super::particles::{self, WORK_BLOCK};
 use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
-use super::{CpuSolver, plain_chunk};
+use super::{CpuSolver, plain_chunk, update};
 use crate::constraints::{Element, Form};
 
 /// Per-thread handles on the solver's arrays (copies of one set of shared views).
@@ -36,14 +36,12 @@ struct Member<'a> {
 }
 
 impl<V: Vector> CpuSolver<V> {
-    /// `true` when `s` runs on the team: Gauss-Seidel with the plain kernels (compliant form, no
-    /// constraint damping, energy-aware off) on a pool of more than one thread, with groups large
-    /// enough to split.
-    pub(super) fn team_applies(&self, s: &Settings, k: &StepConstants<V::S>) -> bool {
+    /// `true` when `s` runs on the team: Gauss-Seidel with energy-aware off (either form, with or
+    /// without constraint damping) on a pool of more than one thread, with groups large enough to
+    /// split.
+    pub(super) fn team_applies(&self, s: &Settings) -> bool {
         s.method == Method::GaussSeidel
             && s.energy_aware == EnergyAware::Off
-            && k.form == Form::Compliant
-            && k.beta == V::S::zero()
             && rayon::current_thread_index().is_some()
             && rayon::current_num_threads() > 1
             && self.large_groups()
@@ -78,6 +76,8 @@ impl<V: Vector> CpuSolver<V> {
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         let dissipated = self.ledger.dissipated;
+        // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
+        let plain = k.form == Form::Compliant && k.beta == V::S::zero();
         let totals = rayon::broadcast(|ctx| {
             let me = Member { t: ctx.index(), threads, barrier: &barrier };
             let mut v = views;
@@ -95,7 +95,8 @@ impl<V: Vector> CpuSolver<V> {
                 for _ in 0..s.iterations {
                     crate::for_each_family!(scene, |i, f| {
                         let mut lambda = v.lambda[i];
-                        team_sweep(f, &mut lambda, &mut v.x, v.x_prev.read_all(), w, k, &me, disjoint[i])
+                        let x_prev = v.x_prev.read_all();
+                        team_sweep(f, &mut lambda, &mut v.x, x_prev, w, k, &me, (disjoint[i], plain))
                     });
                     project_range(
                         scene,
@@ -132,7 +133,8 @@ impl<V: Vector> CpuSolver<V> {
 /// One Gauss-Seidel sweep of family `f` by the team: each thread takes its share of every group
 /// of at least [`PARALLEL_MIN_GROUP`] elements and thread 0 the smaller groups whole, with a
 /// barrier after each group. A family whose groups were not checked disjoint runs whole on
-/// thread 0.
+/// thread 0. `plain`: the lean kernels ([`plain_chunk`]), else the general update of every
+/// element.
 fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut SharedPositions<'_, V::S>,
@@ -141,14 +143,21 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     w: &[V::S],
     k: &StepConstants<V::S>,
     me: &Member<'_>,
-    disjoint: bool,
+    (disjoint, plain): (bool, bool),
 ) {
+    let chunk = |es: &[E], ls: &mut [V::S], x: &mut SharedPositions<'_, V>| match plain {
+        true => plain_chunk(es, ls, &f.params, x, x_prev, w, k),
+        false => {
+            for (e, l) in es.iter().zip(ls) {
+                update(e, &f.params, l, x, x_prev, w, k, |c_val, _| c_val);
+            }
+        }
+    };
     if !disjoint {
         if me.t == 0 {
-            let x = x.range_mut(0..x.len());
             for range in &f.colors {
                 let group = range.start as usize..range.end as usize;
-                plain_chunk(&f.elements[group.clone()], lambda.range_mut(group), &f.params, x, x_prev, w, k);
+                chunk(&f.elements[group.clone()], lambda.range_mut(group), x);
             }
         }
         me.barrier.wait();
@@ -162,7 +171,7 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
             false => 0..0,
         };
         if !mine.is_empty() {
-            plain_chunk(&f.elements[mine.clone()], lambda.range_mut(mine), &f.params, x, x_prev, w, k);
+            chunk(&f.elements[mine.clone()], lambda.range_mut(mine), x);
         }
         me.barrier.wait();
     }
