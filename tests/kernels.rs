@@ -166,9 +166,9 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
     let cloth = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
     let base = Settings { iterations: 3, substeps: 4, damping: 0.5, ..Settings::default() };
     let cases = [
-        ("cloth-sphere", cloth.clone(), base),
+        ("cloth-sphere", cloth, base),
         ("bunny-paper", SceneOptions::default(), base),
-        ("cloth-sphere", cloth.clone(), Settings { form: Form::Energy, ..base }),
+        ("cloth-sphere", cloth, Settings { form: Form::Energy, ..base }),
         ("cloth-sphere", cloth, Settings { constraint_damping: 1e-3, ..base }),
     ];
     for (name, opts, settings) in cases {
