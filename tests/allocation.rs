@@ -1,6 +1,6 @@
 //! Heap allocations per frame, counted by a counting global allocator: the CPU solver's
-//! `step_frame` allocates nothing after warm-up (Gauss-Seidel, one thread); on every core its
-//! allocations do not accumulate; the GPU solver creates no device memory per frame and its
+//! `step_frame` allocates nothing after warm-up (Gauss-Seidel, one thread); on every core it
+//! allocates at most a few times a frame (the team's one wake-up) and gives it all back; the GPU solver creates no device memory per frame and its
 //! per-frame host allocations do not grow with the scene or with the number of frames.
 
 use std::alloc::System;
@@ -67,7 +67,8 @@ fn cpu_every_core_allocations_do_not_accumulate() {
     let s = Settings { threads: 0, ..Settings::default() };
     let frames = 20;
     let st = cpu_frames(cloth(128), &s, 3, frames);
-    // The thread pool may allocate for its job queues; what it allocates it gives back.
+    // The frame wakes the team once (one broadcast of the pool, which allocates its jobs); what it
+    // allocates it gives back.
     println!(
         "threads 0, cloth 128: {:.1} allocations per frame, {} bytes allocated in {frames} frames",
         st.allocations as f64 / frames as f64,
@@ -75,7 +76,7 @@ fn cpu_every_core_allocations_do_not_accumulate() {
     );
     let net = st.bytes_allocated as i64 + st.bytes_reallocated as i64 - st.bytes_deallocated as i64;
     assert!(net <= 64 * 1024, "memory held grew by {net} bytes over {frames} frames: {st:?}");
-    assert!(st.allocations <= 64 * frames as usize, "{} allocations in {frames} frames", st.allocations);
+    assert!(st.allocations <= 4 * frames as usize, "{} allocations in {frames} frames", st.allocations);
 }
 
 /// Device memory in use by the adapter's allocator: (allocations, bytes), where it reports them.
