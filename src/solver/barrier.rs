@@ -4,48 +4,79 @@
 
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Condvar, Mutex, PoisonError};
 
-/// Spins before a waiting thread starts yielding its core (a core shared with other work must not
-/// be held by a thread that waits).
-const SPINS: u32 = 4_000;
+/// Spins (about 20–50 µs) before a waiting thread sleeps: longer than the imbalance of a color
+/// group on a quiet machine, short enough to give the core back when the machine has more
+/// runnable threads than cores (a spinning team then holds up the very thread it waits for).
+const SPINS: u32 = 1_000;
 
-/// A reusable barrier for a fixed number of threads that waits by spinning (then yielding).
+/// A reusable barrier for a fixed number of threads that waits by spinning, then sleeping.
 ///
-/// Everything a thread wrote before [`SpinBarrier::wait`] is visible to every thread after it
-/// (the arrival is an acquire-release read-modify-write and the release of the last arrival is
-/// acquired by the waiters).
+/// Everything a thread wrote before [`SpinBarrier::wait`] is visible to every thread after it:
+/// the arrivals are acquire-release read-modify-writes and the last one's release of the new
+/// round is acquired by the waiters. A waiter that sleeps announces itself (`sleepers`) before it
+/// checks the round a last time, and the last arrival checks `sleepers` after it opens the round,
+/// both sequentially consistent, so one of the two always sees the other: no wake-up is lost.
 #[derive(Debug)]
 pub(crate) struct SpinBarrier {
     threads: usize,
     arrived: AtomicUsize,
     generation: AtomicUsize,
+    sleepers: AtomicUsize,
+    /// Waits that ended in sleep, since the barrier was made.
+    slept: AtomicUsize,
+    lock: Mutex<()>,
+    wake: Condvar,
 }
 
 impl SpinBarrier {
     /// A barrier for `threads` ≥ 1 threads.
     pub fn new(threads: usize) -> Self {
-        SpinBarrier { threads: threads.max(1), arrived: AtomicUsize::new(0), generation: AtomicUsize::new(0) }
+        SpinBarrier {
+            threads: threads.max(1),
+            arrived: AtomicUsize::new(0),
+            generation: AtomicUsize::new(0),
+            sleepers: AtomicUsize::new(0),
+            slept: AtomicUsize::new(0),
+            lock: Mutex::new(()),
+            wake: Condvar::new(),
+        }
     }
 
     /// Blocks until all the threads have called `wait` (once each per round).
     pub fn wait(&self) {
         let generation = self.generation.load(Ordering::Acquire);
         if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.threads {
-            // The reset is ordered before the release below, so a thread that sees the new round
+            // The reset is ordered before the new round, so a thread that sees the new round
             // also sees the count back at zero.
             self.arrived.store(0, Ordering::Relaxed);
-            self.generation.fetch_add(1, Ordering::AcqRel);
+            self.generation.fetch_add(1, Ordering::SeqCst);
+            if self.sleepers.load(Ordering::SeqCst) > 0 {
+                let _guard = self.lock.lock().unwrap_or_else(PoisonError::into_inner);
+                self.wake.notify_all();
+            }
             return;
         }
-        let mut spins = 0;
-        while self.generation.load(Ordering::Acquire) == generation {
-            if spins < SPINS {
-                spins += 1;
-                std::hint::spin_loop();
-            } else {
-                std::thread::yield_now();
+        for _ in 0..SPINS {
+            if self.generation.load(Ordering::Acquire) != generation {
+                return;
             }
+            std::hint::spin_loop();
         }
+        self.slept.fetch_add(1, Ordering::Relaxed);
+        let mut guard = self.lock.lock().unwrap_or_else(PoisonError::into_inner);
+        self.sleepers.fetch_add(1, Ordering::SeqCst);
+        while self.generation.load(Ordering::SeqCst) == generation {
+            guard = self.wake.wait(guard).unwrap_or_else(PoisonError::into_inner);
+        }
+        self.sleepers.fetch_sub(1, Ordering::SeqCst);
+    }
+
+    /// Waits that ended in sleep so far: a team whose threads sleep at its barriers is sharing
+    /// the cores with other work.
+    pub fn slept(&self) -> usize {
+        self.slept.load(Ordering::Relaxed)
     }
 }
 
@@ -76,6 +107,23 @@ mod tests {
                 assert_eq!(next, 10 + len);
             }
         }
+    }
+
+    #[test]
+    fn a_late_thread_puts_the_others_to_sleep() {
+        let barrier = SpinBarrier::new(3);
+        std::thread::scope(|s| {
+            for t in 0..3 {
+                let b = &barrier;
+                s.spawn(move || {
+                    if t == 0 {
+                        std::thread::sleep(std::time::Duration::from_millis(50));
+                    }
+                    b.wait();
+                });
+            }
+        });
+        assert_eq!(barrier.slept(), 2, "the two early threads spin, then sleep until the late one arrives");
     }
 
     #[test]

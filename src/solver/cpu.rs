@@ -19,6 +19,13 @@ use super::{Method, Particles, Settings};
 
 mod team;
 
+/// The machine's cores (asked once: the query allocates). A team waits at barriers for a thread
+/// the system has not scheduled, so the solver never runs more threads than cores.
+fn cores() -> u32 {
+    static CORES: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()) as u32)
+}
+
 /// Per-family solver state: one multiplier per constraint, Jacobi's per-constraint scale, and
 /// the local mode's energy at the start of the substep.
 #[derive(Clone, Debug, Default)]
@@ -78,6 +85,8 @@ pub struct CpuSolver<V: Vector> {
     work_blocks: Vec<f64>,
     /// The solver's pool for a thread count above one (built on first use).
     pool: Option<(u32, Arc<rayon::ThreadPool>)>,
+    /// Frames left to run on one thread because the last team frame found the cores busy.
+    team_backoff: u32,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -100,6 +109,7 @@ impl<V: Vector> CpuSolver<V> {
             last: None,
             work_blocks: vec![0.0; n.div_ceil(particles::WORK_BLOCK)],
             pool: None,
+            team_backoff: 0,
             scene,
         }
     }
@@ -131,8 +141,9 @@ impl<V: Vector> CpuSolver<V> {
         // groups as a team (a pool of its own: a team waits at spin barriers, which must not meet
         // unrelated work on a shared pool).
         let threads = match s.threads {
+            1 => 1,
             0 => rayon::current_num_threads() as u32,
-            n => n,
+            n => n.min(cores()),
         };
         match threads {
             1 => self.substeps(s, &k),
@@ -158,6 +169,7 @@ impl<V: Vector> CpuSolver<V> {
         if self.team_applies(s) {
             return self.team_substeps(s, k);
         }
+        self.team_backoff = self.team_backoff.saturating_sub(1);
         for _ in 0..s.substeps {
             self.substep(s, k);
         }

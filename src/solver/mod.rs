@@ -77,7 +77,7 @@ pub struct Settings {
     pub energy_aware: EnergyAware,
     /// Successive over-relaxation `ω`: every `Δλ` is scaled by it (1 = plain).
     pub sor: f32,
-    /// CPU threads: 1 runs single-threaded, 0 uses every core. On several threads the solver's
+    /// CPU threads: 1 runs single-threaded, 0 uses every core; at most one per core. On several threads the solver's
     /// pool runs each frame as a team that splits the per-particle passes and every color group
     /// of at least [`PARALLEL_MIN_GROUP`] elements (Gauss-Seidel with energy-aware off, in either
     /// form; Jacobi and the energy-aware modes run on one thread). The result is the same for any

@@ -45,6 +45,7 @@ impl<V: Vector> CpuSolver<V> {
             && rayon::current_thread_index().is_some()
             && rayon::current_num_threads() > 1
             && self.large_groups()
+            && self.team_backoff == 0
     }
 
     /// `true` when some family the threads may split has a group of at least
@@ -127,8 +128,29 @@ impl<V: Vector> CpuSolver<V> {
             dissipated
         });
         self.ledger.dissipated = totals[0];
+        let barriers = s.substeps as usize * (2 + s.iterations as usize * (1 + self.groups()));
+        self.team_backoff = match barrier.slept() * BUSY_FRACTION > barriers {
+            true => BACKOFF_FRAMES,
+            false => 0,
+        };
+    }
+
+    /// Color groups per sweep of every family.
+    fn groups(&self) -> usize {
+        let mut groups = 0;
+        crate::for_each_family!(self.scene, |_i, f| groups += f.colors.len());
+        groups
     }
 }
+
+/// A team frame in which more than one barrier wait in this many ended in sleep ran on cores
+/// shared with other work (another process, another solver): its threads waited for one another
+/// at every group. The solver then runs [`BACKOFF_FRAMES`] frames on one thread before it tries
+/// the team again (the result is the same either way).
+const BUSY_FRACTION: usize = 8;
+
+/// Frames run on one thread after a team frame found the cores busy.
+pub(super) const BACKOFF_FRAMES: u32 = 30;
 
 /// One Gauss-Seidel sweep of family `f` by the team: each thread takes its share of every group
 /// of at least [`PARALLEL_MIN_GROUP`] elements and thread 0 the smaller groups whole, with a
