@@ -5,11 +5,13 @@
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Condvar, Mutex, PoisonError};
+use std::time::{Duration, Instant};
 
-/// Spins (about 20–50 µs) before a waiting thread sleeps: longer than the imbalance of a color
-/// group on a quiet machine, short enough to give the core back when the machine has more
-/// runnable threads than cores (a spinning team then holds up the very thread it waits for).
-const SPINS: u32 = 1_000;
+/// How long a waiting thread spins before it sleeps: well past the imbalance of a color group's
+/// shares on a quiet machine (a wake-up from sleep costs tens of microseconds, and a frame has
+/// hundreds of barriers), short enough that a team on cores busy with other work, whose waits
+/// last whole scheduler time slices, soon sleeps and is noticed ([`SpinBarrier::slept`]).
+const SPIN_TIME: Duration = Duration::from_micros(200);
 
 /// A reusable barrier for a fixed number of threads that waits by spinning, then sleeping.
 ///
@@ -58,11 +60,17 @@ impl SpinBarrier {
             }
             return;
         }
-        for _ in 0..SPINS {
+        let start = Instant::now();
+        let mut spins = 0u32;
+        loop {
             if self.generation.load(Ordering::Acquire) != generation {
                 return;
             }
             std::hint::spin_loop();
+            spins = spins.wrapping_add(1);
+            if spins % 64 == 0 && start.elapsed() > SPIN_TIME {
+                break;
+            }
         }
         self.slept.fetch_add(1, Ordering::Relaxed);
         let mut guard = self.lock.lock().unwrap_or_else(PoisonError::into_inner);

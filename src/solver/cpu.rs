@@ -85,8 +85,8 @@ pub struct CpuSolver<V: Vector> {
     work_blocks: Vec<f64>,
     /// The solver's pool for a thread count above one (built on first use).
     pool: Option<(u32, Arc<rayon::ThreadPool>)>,
-    /// Frames left to run on one thread because the last team frame found the cores busy.
-    team_backoff: u32,
+    /// Whether the next frame runs on the team or on one thread ([`team::Choice`]).
+    choice: team::Choice,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -109,7 +109,7 @@ impl<V: Vector> CpuSolver<V> {
             last: None,
             work_blocks: vec![0.0; n.div_ceil(particles::WORK_BLOCK)],
             pool: None,
-            team_backoff: 0,
+            choice: team::Choice::default(),
             scene,
         }
     }
@@ -167,9 +167,21 @@ impl<V: Vector> CpuSolver<V> {
 
     fn substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
         if self.team_applies(s) {
-            return self.team_substeps(s, k);
+            let start = std::time::Instant::now();
+            let busy = match self.choice.team() {
+                true => self.team_substeps(s, k),
+                false => {
+                    self.serial_substeps(s, k);
+                    false
+                }
+            };
+            self.choice = self.choice.next(start.elapsed(), busy);
+            return;
         }
-        self.team_backoff = self.team_backoff.saturating_sub(1);
+        self.serial_substeps(s, k);
+    }
+
+    fn serial_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
         for _ in 0..s.substeps {
             self.substep(s, k);
         }

@@ -5,6 +5,8 @@
 //! a group share no particle and the passes touch each particle alone, so the positions come out
 //! the same, bit for bit, for any thread count.
 
+use std::time::Duration;
+
 use crate::math::prelude::*;
 use crate::scene::{FAMILY_COUNT, Family};
 
@@ -45,7 +47,6 @@ impl<V: Vector> CpuSolver<V> {
             && rayon::current_thread_index().is_some()
             && rayon::current_num_threads() > 1
             && self.large_groups()
-            && self.team_backoff == 0
     }
 
     /// `true` when some family the threads may split has a group of at least
@@ -58,8 +59,9 @@ impl<V: Vector> CpuSolver<V> {
         large
     }
 
-    /// The frame's substeps on every thread of the current pool (see the module documentation).
-    pub(super) fn team_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+    /// The frame's substeps on every thread of the current pool (see the module documentation);
+    /// returns `true` when the threads slept at many barriers (the cores may be busy).
+    pub(super) fn team_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) -> bool {
         let threads = rayon::current_num_threads();
         let barrier = SpinBarrier::new(threads);
         let n = self.particles.len();
@@ -129,10 +131,7 @@ impl<V: Vector> CpuSolver<V> {
         });
         self.ledger.dissipated = totals[0];
         let barriers = s.substeps as usize * (2 + s.iterations as usize * (1 + self.groups()));
-        self.team_backoff = match barrier.slept() * BUSY_FRACTION > barriers {
-            true => BACKOFF_FRAMES,
-            false => 0,
-        };
+        barrier.slept() * BUSY_FRACTION > barriers
     }
 
     /// Color groups per sweep of every family.
@@ -142,15 +141,6 @@ impl<V: Vector> CpuSolver<V> {
         groups
     }
 }
-
-/// A team frame in which more than one barrier wait in this many ended in sleep ran on cores
-/// shared with other work (another process, another solver): its threads waited for one another
-/// at every group. The solver then runs [`BACKOFF_FRAMES`] frames on one thread before it tries
-/// the team again (the result is the same either way).
-const BUSY_FRACTION: usize = 8;
-
-/// Frames run on one thread after a team frame found the cores busy.
-pub(super) const BACKOFF_FRAMES: u32 = 30;
 
 /// One Gauss-Seidel sweep of family `f` by the team: each thread takes its share of every group
 /// of at least [`PARALLEL_MIN_GROUP`] elements and thread 0 the smaller groups whole, with a
@@ -196,5 +186,82 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
             chunk(&f.elements[mine.clone()], lambda.range_mut(mine), x);
         }
         me.barrier.wait();
+    }
+}
+
+/// A team frame in which more than one barrier wait in this many ended in sleep is suspect: its
+/// threads may have waited for one another because the cores run other work too (another
+/// process, another solver), or only because its groups are long (a wait past the spin sleeps).
+const BUSY_FRACTION: usize = 8;
+
+/// Frames run on one thread once one thread was found faster than the team.
+const ALONE_FRAMES: u32 = 30;
+
+/// Frames the team runs unchecked once it was found faster than one thread.
+const TRUSTED_FRAMES: u32 = 120;
+
+/// How the next frame runs: the team, unless a suspect team frame (see [`BUSY_FRACTION`]) was
+/// followed by a faster frame on one thread. The positions are the same either way; only the
+/// time changes.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) enum Choice {
+    /// The team, checked after each frame.
+    #[default]
+    Team,
+    /// One frame on one thread, to compare with the suspect team frame's time.
+    Check(Duration),
+    /// One thread for this many more frames.
+    Alone(u32),
+    /// The team, unchecked for this many more frames.
+    Trusted(u32),
+}
+
+impl Choice {
+    /// `true` when the next frame runs on the team.
+    pub fn team(self) -> bool {
+        matches!(self, Choice::Team | Choice::Trusted(_))
+    }
+
+    /// The choice after a frame that took `time`; `busy`: a team frame that slept at many
+    /// barriers.
+    pub fn next(self, time: Duration, busy: bool) -> Choice {
+        match self {
+            Choice::Team if busy => Choice::Check(time),
+            Choice::Team | Choice::Trusted(1) | Choice::Alone(1) => Choice::Team,
+            Choice::Trusted(n) => Choice::Trusted(n - 1),
+            Choice::Alone(n) => Choice::Alone(n - 1),
+            Choice::Check(team) if time < team => Choice::Alone(ALONE_FRAMES),
+            Choice::Check(_) => Choice::Trusted(TRUSTED_FRAMES),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_suspect_team_frame_is_checked_against_one_thread() {
+        let ms = Duration::from_millis;
+        assert_eq!(Choice::Team.next(ms(10), false), Choice::Team);
+        let check = Choice::Team.next(ms(36), true);
+        assert_eq!(check, Choice::Check(ms(36)));
+        assert!(!check.team());
+        // One thread was faster: it keeps the frames for a while, then the team is tried again.
+        let mut c = check.next(ms(17), false);
+        assert_eq!(c, Choice::Alone(ALONE_FRAMES));
+        for _ in 0..ALONE_FRAMES {
+            assert!(!c.team());
+            c = c.next(ms(17), false);
+        }
+        assert_eq!(c, Choice::Team);
+        // The team was faster (long groups, not busy cores): it runs unchecked for a while.
+        let mut c = Choice::Check(ms(160)).next(ms(260), false);
+        assert_eq!(c, Choice::Trusted(TRUSTED_FRAMES));
+        for _ in 0..TRUSTED_FRAMES {
+            assert!(c.team());
+            c = c.next(ms(160), true);
+        }
+        assert_eq!(c, Choice::Team);
     }
 }
