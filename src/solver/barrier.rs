@@ -68,7 +68,7 @@ impl SpinBarrier {
             }
             std::hint::spin_loop();
             spins = spins.wrapping_add(1);
-            if spins % 64 == 0 && start.elapsed() > SPIN_TIME {
+            if spins.is_multiple_of(64) && start.elapsed() > SPIN_TIME {
                 break;
             }
         }
