@@ -336,6 +336,13 @@ impl Scene {
         n
     }
 
+    /// Color groups over all families: the groups one Gauss-Seidel sweep visits in turn.
+    pub fn num_color_groups(&self) -> usize {
+        let mut n = 0;
+        crate::for_each_family!(self, |_i, f| n += f.colors.len());
+        n
+    }
+
     /// Centre of mass of the free particles at the start (m): heights for gravitational energy
     /// are measured from it.
     pub fn rest_center_of_mass(&self) -> Vec3 {

@@ -87,6 +87,10 @@ pub struct CpuSolver<V: Vector> {
     pool: Option<(u32, Arc<rayon::ThreadPool>)>,
     /// Whether the next frame runs on the team or on one thread ([`team::Choice`]).
     choice: team::Choice,
+    /// Some family has a group the team may split ([`team::splittable`]), fixed by the scene.
+    splittable: bool,
+    /// Color groups of all families in one sweep.
+    groups: usize,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -98,6 +102,7 @@ impl<V: Vector> CpuSolver<V> {
             fam[i].lambda = vec![V::S::zero(); f.len()];
             fam[i].disjoint = f.groups_disjoint(n);
         });
+        let splittable = team::splittable(&scene, &fam);
         CpuSolver {
             particles: Particles::from_scene(&scene),
             fam,
@@ -110,6 +115,8 @@ impl<V: Vector> CpuSolver<V> {
             work_blocks: vec![0.0; n.div_ceil(particles::WORK_BLOCK)],
             pool: None,
             choice: team::Choice::default(),
+            splittable,
+            groups: scene.num_color_groups(),
             scene,
         }
     }
@@ -399,9 +406,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
-        None if k.form == Form::Compliant && k.beta == V::S::zero() => {
-            plain_sweep(f, lambda, &mut p.x, &p.x_prev, &p.w, k)
-        }
+        None if k.plain() => plain_sweep(f, lambda, &mut p.x, &p.x_prev, &p.w, k),
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }

@@ -36,6 +36,11 @@ impl<S: Real> StepConstants<S> {
             sor: s.sor.into(),
         }
     }
+
+    /// `true` where the lean kernels apply: the compliant form without constraint damping.
+    pub fn plain(&self) -> bool {
+        self.form == Form::Compliant && self.beta == S::zero()
+    }
 }
 
 /// Denominators below this are treated as zero (a vanishing gradient with zero compliance).

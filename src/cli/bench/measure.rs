@@ -88,8 +88,7 @@ impl Row {
 
 /// A row with the scene's counts, before timing.
 fn row(case: &Case, scene: &Scene, backend: Backend) -> Row {
-    let mut colors = 0;
-    eapbd::for_each_family!(scene, |_i, f| colors += f.stats.colors as usize);
+    let colors = scene.num_color_groups();
     Row {
         label: case.label.clone(),
         scene: case.scene.to_string(),

@@ -8,7 +8,7 @@
 use std::time::Duration;
 
 use crate::math::prelude::*;
-use crate::scene::{FAMILY_COUNT, Family};
+use crate::scene::{FAMILY_COUNT, Family, Scene};
 
 use super::super::barrier::{SpinBarrier, share};
 use super::super::contacts::project_range;
@@ -17,8 +17,18 @@ use super::super::particles::{self, WORK_BLOCK};
 use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
-use super::{CpuSolver, plain_chunk, update};
-use crate::constraints::{Element, Form};
+use super::{CpuSolver, FamilyState, plain_chunk, update};
+use crate::constraints::Element;
+
+/// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
+/// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster.
+pub(super) fn splittable<S>(scene: &Scene, fam: &[FamilyState<S>; FAMILY_COUNT]) -> bool {
+    let mut large = false;
+    crate::for_each_family!(scene, |i, f| {
+        large |= fam[i].disjoint && f.colors.iter().any(|r| r.len() >= PARALLEL_MIN_GROUP)
+    });
+    large
+}
 
 /// Per-thread handles on the solver's arrays (copies of one set of shared views).
 #[derive(Clone, Copy)]
@@ -46,17 +56,7 @@ impl<V: Vector> CpuSolver<V> {
             && s.energy_aware == EnergyAware::Off
             && rayon::current_thread_index().is_some()
             && rayon::current_num_threads() > 1
-            && self.large_groups()
-    }
-
-    /// `true` when some family the threads may split has a group of at least
-    /// [`PARALLEL_MIN_GROUP`] elements (else one thread does it all, faster).
-    fn large_groups(&self) -> bool {
-        let mut large = false;
-        crate::for_each_family!(self.scene, |i, f| {
-            large |= self.fam[i].disjoint && f.colors.iter().any(|r| r.len() >= PARALLEL_MIN_GROUP)
-        });
-        large
+            && self.splittable
     }
 
     /// The frame's substeps on every thread of the current pool (see the module documentation);
@@ -80,7 +80,7 @@ impl<V: Vector> CpuSolver<V> {
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         let dissipated = self.ledger.dissipated;
         // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
-        let plain = k.form == Form::Compliant && k.beta == V::S::zero();
+        let plain = k.plain();
         let totals = rayon::broadcast(|ctx| {
             let me = Member { t: ctx.index(), threads, barrier: &barrier };
             let mut v = views;
@@ -130,15 +130,8 @@ impl<V: Vector> CpuSolver<V> {
             dissipated
         });
         self.ledger.dissipated = totals[0];
-        let barriers = s.substeps as usize * (2 + s.iterations as usize * (1 + self.groups()));
+        let barriers = s.substeps as usize * (2 + s.iterations as usize * (1 + self.groups));
         barrier.slept() * BUSY_FRACTION > barriers
-    }
-
-    /// Color groups per sweep of every family.
-    fn groups(&self) -> usize {
-        let mut groups = 0;
-        crate::for_each_family!(self.scene, |_i, f| groups += f.colors.len());
-        groups
     }
 }
 
