@@ -155,22 +155,3 @@ mod tests {
         assert_eq!(counter.load(Ordering::Relaxed), 200 * threads);
     }
 }
-#[cfg(test)]
-mod timing {
-    #[test]
-    #[ignore]
-    fn barrier_round_trip() {
-        let b = super::SpinBarrier::new(2);
-        let t0 = std::time::Instant::now();
-        std::thread::scope(|s| {
-            for _ in 0..2 {
-                s.spawn(|| {
-                    for _ in 0..200_000 {
-                        b.wait();
-                    }
-                });
-            }
-        });
-        println!("{:.0} ns per round", t0.elapsed().as_nanos() as f64 / 200_000.0);
-    }
-}
