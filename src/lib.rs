@@ -22,7 +22,8 @@
 //! let scene = scene::build("cloth", &scene::SceneOptions::default())?;
 //! let settings = Settings { substeps: 10, iterations: 3, ..Settings::default() };
 //! settings.validate()?;
-//! let mut solver = CpuSolver::<glam::Vec3>::new(scene);
+//! // `Vec3A` (16-byte particles) is the fast f32 storage; `Vec3` gives the same bits, `DVec3` f64.
+//! let mut solver = CpuSolver::<glam::Vec3A>::new(scene);
 //! for frame in 1..=60 {
 //!     solver.step_frame(&settings);
 //!     let stats = FrameStats::measure(&solver, frame, 0.0);

@@ -7,7 +7,7 @@
 use std::fmt::Debug;
 use std::ops::{Add, AddAssign, Mul, Neg, Sub, SubAssign};
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec3A};
 use num_traits::Float;
 
 /// A floating-point scalar: `f32` or `f64`.
@@ -108,6 +108,19 @@ pub trait Vector:
     fn to_vec3(self) -> Vec3;
     /// Converts to `f64`.
     fn to_dvec3(self) -> DVec3;
+    /// The components as the `f32` SIMD lanes `[x, y, z, 0]` (the SIMD kernels' gather; one
+    /// register move for the padded [`Vec3A`]).
+    #[inline(always)]
+    fn to_quad(self) -> wide::f32x4 {
+        let v = self.to_vec3();
+        wide::f32x4::new([v.x, v.y, v.z, 0.0])
+    }
+    /// The vector of lanes `[x, y, z, 0]` (the SIMD kernels' scatter).
+    #[inline(always)]
+    fn from_quad(q: wide::f32x4) -> Self {
+        let a = q.to_array();
+        Self::from_vec3(Vec3::new(a[0], a[1], a[2]))
+    }
     /// Dot product.
     fn dot(self, o: Self) -> Self::S;
     /// Cross product.
@@ -127,8 +140,9 @@ pub trait Vector:
 }
 
 macro_rules! impl_vector {
-    ($v:ty, $s:ty) => {
+    ($v:ty, $s:ty $(, $extra:item)*) => {
         impl Vector for $v {
+            $($extra)*
             type S = $s;
             const ZERO: Self = <$v>::ZERO;
             #[inline]
@@ -153,7 +167,7 @@ macro_rules! impl_vector {
             }
             #[inline]
             fn cross(self, o: Self) -> Self {
-                <$v>::cross(self, o)
+                cross(self, o)
             }
             #[inline]
             fn get(self, i: usize) -> $s {
@@ -168,7 +182,29 @@ macro_rules! impl_vector {
 }
 
 impl_vector!(Vec3, f32);
+impl_vector!(
+    Vec3A,
+    f32,
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn to_quad(self) -> wide::f32x4 {
+        bytemuck::cast(std::arch::x86_64::__m128::from(self))
+    },
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn from_quad(q: wide::f32x4) -> Self {
+        Vec3A::from(bytemuck::cast::<_, std::arch::x86_64::__m128>(q))
+    }
+);
 impl_vector!(DVec3, f64);
+
+/// `a × b` as `(a.y b.z − b.y a.z, a.z b.x − b.z a.x, a.x b.y − b.x a.y)`, each product rounded
+/// on its own (glam's `Vec3A::cross` fuses them where the target has FMA, which would make the
+/// padded solver differ from the unpadded one and from the GPU).
+#[inline(always)]
+fn cross<V: std::ops::Index<usize, Output = S> + Vector<S = S>, S: Real>(a: V, b: V) -> V {
+    V::new(a[1] * b[2] - b[1] * a[2], a[2] * b[0] - b[2] * a[0], a[0] * b[1] - b[0] * a[1])
+}
 
 /// Shorthand for a scalar constant in any precision.
 #[inline]

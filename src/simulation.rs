@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuSolver, Kernels};
@@ -44,7 +44,7 @@ impl std::str::FromStr for Backend {
 #[derive(Debug)]
 pub enum Simulation {
     /// On the CPU (`f32`).
-    Cpu(Box<CpuSolver<Vec3>>),
+    Cpu(Box<CpuSolver<Vec3A>>),
     /// On the GPU.
     Gpu(Box<GpuSolver>),
 }
@@ -88,7 +88,7 @@ impl Simulation {
     /// Current positions (m).
     pub fn positions(&self) -> Result<Vec<Vec3>> {
         match self {
-            Simulation::Cpu(c) => Ok(c.particles.x.clone()),
+            Simulation::Cpu(c) => Ok(c.particles.positions()),
             Simulation::Gpu(g) => g.read_positions(),
         }
     }
@@ -106,7 +106,7 @@ pub fn upload_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
 }
 
 /// Writes a CPU solver's positions into an [`upload_buffer`].
-pub fn upload_positions(queue: &wgpu::Queue, buffer: &wgpu::Buffer, solver: &CpuSolver<Vec3>) {
+pub fn upload_positions(queue: &wgpu::Queue, buffer: &wgpu::Buffer, solver: &CpuSolver<Vec3A>) {
     let x: Vec<Vec4> = solver.particles.x.iter().zip(&solver.particles.w).map(|(p, &w)| p.extend(w)).collect();
     queue.write_buffer(buffer, 0, bytemuck::cast_slice(&x));
 }

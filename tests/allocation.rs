@@ -10,7 +10,7 @@ use eapbd::constraints::{Bend, Form, Spring};
 use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
 use eapbd::scene::{self, Scene, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings};
-use glam::Vec3;
+use glam::Vec3A;
 use stats_alloc::{INSTRUMENTED_SYSTEM, Region, Stats, StatsAlloc};
 
 #[global_allocator]
@@ -29,7 +29,7 @@ fn cloth(n: u32) -> Scene {
 
 /// Allocator activity during `frames` frames of the CPU solver, after `warm` frames.
 fn cpu_frames(scene: Scene, s: &Settings, warm: u32, frames: u32) -> Stats {
-    let mut sv = CpuSolver::<Vec3>::new(scene);
+    let mut sv = CpuSolver::<Vec3A>::new(scene);
     for _ in 0..warm {
         sv.step_frame(s);
     }

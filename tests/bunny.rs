@@ -4,7 +4,7 @@
 use eapbd::mesh::{EmbeddedTets, TriMesh, dihedral_pairs, parse_obj, unique_edges};
 use eapbd::scene::{self, Body, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
@@ -146,11 +146,11 @@ fn every_body_builds_and_the_volume_bunny_lands() {
     }
     let sc = scene::build("bunny", &SceneOptions { lattice: Some(8), ..SceneOptions::default() }).unwrap();
     let e = sc.embedding.clone().unwrap();
-    let mut sv = CpuSolver::<Vec3>::new(sc);
+    let mut sv = CpuSolver::<Vec3A>::new(sc);
     for _ in 0..60 {
         sv.step_frame(&Settings { substeps: 2, iterations: 10, ..Settings::default() });
     }
-    let surface = e.positions(&sv.particles.x);
+    let surface = e.positions(&sv.particles.positions());
     assert!(surface.iter().all(|p| p.is_finite()));
     let low = surface.iter().map(|p| p.y).fold(f32::MAX, f32::min);
     assert!(low < 0.02 && low > -0.02, "the bunny should rest on the ground, lowest point {low}");

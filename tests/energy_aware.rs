@@ -5,14 +5,14 @@ use eapbd::constraints::{Form, SpringMaterial};
 use eapbd::metrics::FrameStats;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, EnergyAware, Settings};
-use glam::Vec3;
+use glam::Vec3A;
 
-fn solver(name: &str, opts: SceneOptions) -> CpuSolver<Vec3> {
+fn solver(name: &str, opts: SceneOptions) -> CpuSolver<Vec3A> {
     CpuSolver::new(scene::build(name, &opts).unwrap())
 }
 
 /// Runs `frames` frames; returns the stats of the first and last frame.
-fn run(sv: &mut CpuSolver<Vec3>, s: &Settings, frames: u32) -> (FrameStats, FrameStats) {
+fn run(sv: &mut CpuSolver<Vec3A>, s: &Settings, frames: u32) -> (FrameStats, FrameStats) {
     sv.step_frame(s);
     let first = FrameStats::measure(sv, 1, 0.0);
     for _ in 1..frames {

@@ -12,7 +12,7 @@ use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
 use eapbd::metrics::FrameStats;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 fn context() -> GpuContext {
     GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
@@ -29,7 +29,7 @@ fn compare(
     frames: u32,
 ) -> (f32, Vec<Vec3>) {
     let sc = scene::build(name, &opts).unwrap();
-    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let mut worst = 0.0f32;
     for frame in 1..=frames {
@@ -37,12 +37,12 @@ fn compare(
         gpu.step_frame(s);
         if frame % 20 == 0 || frame == frames {
             let g = gpu.read_positions().unwrap();
-            let d = cpu.particles.x.iter().zip(&g).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
+            let d = cpu.particles.positions().iter().zip(&g).map(|(a, b)| a.distance(*b)).fold(0.0, f32::max);
             assert!(d.is_finite(), "{name}: non-finite at frame {frame}");
             worst = worst.max(d);
         }
     }
-    (worst, cpu.particles.x.clone())
+    (worst, cpu.particles.positions())
 }
 
 /// Tolerance on the particle distance (m), relative to the 1 m cloth: 1e-4.
@@ -92,8 +92,8 @@ fn contacts_match_the_cpu_as_closely_as_the_cpu_matches_itself() {
     let kernels = Arc::new(Kernels::new(&ctx.device));
     let s = Settings::default();
     let sc = scene::build("cloth-sphere", &SceneOptions::default()).unwrap();
-    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
-    let mut perturbed = CpuSolver::<Vec3>::new(sc.clone());
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
+    let mut perturbed = CpuSolver::<Vec3A>::new(sc.clone());
     perturbed.particles.x[800].x += 1e-6;
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let dist = |a: &[Vec3], b: &[Vec3]| a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max);
@@ -103,8 +103,8 @@ fn contacts_match_the_cpu_as_closely_as_the_cpu_matches_itself() {
         gpu.step_frame(&s);
         if frame % 10 == 0 {
             let g = gpu.read_positions().unwrap();
-            let d_gpu = dist(&cpu.particles.x, &g);
-            let d_self = dist(&cpu.particles.x, &perturbed.particles.x);
+            let d_gpu = dist(&cpu.particles.positions(), &g);
+            let d_self = dist(&cpu.particles.positions(), &perturbed.particles.positions());
             println!("cloth-sphere frame {frame}: GPU {d_gpu:.2e} m, CPU perturbed {d_self:.2e} m");
             if frame <= 20 {
                 assert!(d_gpu < TOLERANCE, "frame {frame}: GPU and CPU differ by {d_gpu:.3e} m before the drape");
@@ -137,8 +137,8 @@ fn compare_sensitive(
     frames: u32,
 ) -> (f32, f32) {
     let sc = scene::build("cloth", &opts).unwrap();
-    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
-    let mut perturbed = CpuSolver::<Vec3>::new(sc.clone());
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
+    let mut perturbed = CpuSolver::<Vec3A>::new(sc.clone());
     perturbed.particles.x[sc.num_particles() / 2].x += 1e-6;
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let dist = |a: &[Vec3], b: &[Vec3]| a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max);
@@ -148,8 +148,8 @@ fn compare_sensitive(
         perturbed.step_frame(s);
         gpu.step_frame(s);
         if frame == 1 || frame % 20 == 0 {
-            let d = dist(&cpu.particles.x, &gpu.read_positions().unwrap());
-            let d_self = dist(&cpu.particles.x, &perturbed.particles.x);
+            let d = dist(&cpu.particles.positions(), &gpu.read_positions().unwrap());
+            let d_self = dist(&cpu.particles.positions(), &perturbed.particles.positions());
             assert!(d.is_finite(), "non-finite at frame {frame}");
             ratio = ratio.max(d / (10.0 * d_self + TOLERANCE));
             worst = worst.max(d);
@@ -191,7 +191,7 @@ fn gpu_energies_match_the_cpu() {
     let kernels = Arc::new(Kernels::new(&ctx.device));
     let sc = scene::build("cloth-sphere", &SceneOptions { resolution: Some(21), ..SceneOptions::default() }).unwrap();
     let s = Settings { damping: 0.5, energy_aware: EnergyAware::Global, ..Settings::default() };
-    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     for frame in 1..=60 {
         cpu.step_frame(&s);

@@ -10,7 +10,7 @@ use eapbd::material::Model;
 use eapbd::metrics::FrameStats;
 use eapbd::scene::{self, Scene, SceneOptions};
 use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 fn context() -> (GpuContext, Arc<Kernels>) {
     let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
@@ -34,8 +34,8 @@ fn max_distance(a: &[Vec3], b: &[Vec3]) -> f32 {
 /// the ratio is meaningful.
 fn compare(ctx: &GpuContext, kernels: &Arc<Kernels>, sc: Scene, s: &Settings, frames: u32) -> (f32, f32, f32) {
     let start = sc.positions.clone();
-    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
-    let mut perturbed = CpuSolver::<Vec3>::new(sc.clone());
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
+    let mut perturbed = CpuSolver::<Vec3A>::new(sc.clone());
     perturbed.particles.x[sc.num_particles() - 1].y += 1e-6;
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     let (mut worst, mut ratio) = (0.0f32, 0.0f32);
@@ -44,14 +44,14 @@ fn compare(ctx: &GpuContext, kernels: &Arc<Kernels>, sc: Scene, s: &Settings, fr
         perturbed.step_frame(s);
         gpu.step_frame(s);
         if frame % 20 == 0 || frame == frames {
-            let d = max_distance(&cpu.particles.x, &gpu.read_positions().unwrap());
-            let d_self = max_distance(&cpu.particles.x, &perturbed.particles.x);
+            let d = max_distance(&cpu.particles.positions(), &gpu.read_positions().unwrap());
+            let d_self = max_distance(&cpu.particles.positions(), &perturbed.particles.positions());
             assert!(d.is_finite(), "non-finite at frame {frame}");
             worst = worst.max(d);
             ratio = ratio.max(d / (10.0 * d_self + TOLERANCE));
         }
     }
-    (worst, ratio, max_distance(&cpu.particles.x, &start))
+    (worst, ratio, max_distance(&cpu.particles.positions(), &start))
 }
 
 /// Tolerance on the particle distance (m) for the 1 m beam: 1e-4 m, a 1e-4 fraction of its
@@ -102,7 +102,7 @@ fn gpu_tet_energies_match_the_cpu() {
     let (ctx, kernels) = context();
     let sc = beam(Model::StVK);
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
-    let mut cpu = CpuSolver::<Vec3>::new(sc.clone());
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
     let mut gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
     for _ in 0..40 {
         cpu.step_frame(&s);

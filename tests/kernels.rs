@@ -1,11 +1,11 @@
-//! The lean in-place kernels of the CPU solver (scalar and 4-wide SIMD) against the general XPBD
+//! The lean in-place kernels of the CPU solver (scalar and SIMD, `SIMD_WIDTH` lanes) against the general XPBD
 //! update, the fast `f32` `atan2` against the library, and the team of threads against one thread.
 
-use eapbd::constraints::{Bend, BendParams, Element, Spring, SpringMaterial, SpringParams};
+use eapbd::constraints::{Bend, BendParams, Element, SIMD_WIDTH, Spring, SpringMaterial, SpringParams};
 use eapbd::math::Real;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings, delta_lambda};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
@@ -29,33 +29,36 @@ fn jitter(rng: &mut SmallRng, v: Vec3, s: f32) -> Vec3 {
     v + Vec3::new(rng.random_range(-s..s), rng.random_range(-s..s), rng.random_range(-s..s))
 }
 
-/// Four elements on 4 × `N` distinct particles, positions from `place`, random inverse masses
-/// (one in five pinned) and multipliers.
+/// `SIMD_WIDTH` elements on `SIMD_WIDTH × N` distinct particles, positions from `place`, random
+/// inverse masses (one in five pinned) and multipliers.
 struct Case {
     x: Vec<Vec3>,
     w: Vec<f32>,
-    lambda: [f32; 4],
+    lambda: [f32; SIMD_WIDTH],
 }
 
 fn case(rng: &mut SmallRng, n: usize, place: impl Fn(&mut SmallRng, usize) -> Vec3) -> Case {
     Case {
-        x: (0..4 * n).map(|i| place(rng, i % n)).collect(),
-        w: (0..4 * n).map(|_| if rng.random_range(0..5) == 0 { 0.0 } else { rng.random_range(1.0..5000.0) }).collect(),
+        x: (0..SIMD_WIDTH * n).map(|i| place(rng, i % n)).collect(),
+        w: (0..SIMD_WIDTH * n)
+            .map(|_| if rng.random_range(0..5) == 0 { 0.0 } else { rng.random_range(1.0..5000.0) })
+            .collect(),
         lambda: std::array::from_fn(|_| rng.random_range(-1e-4..1e-4)),
     }
 }
 
 /// Runs the general update, the scalar kernel and the SIMD kernel (where the family has one) on
-/// the same four elements: the scalar kernel agrees with the general update to `rel` of the
+/// the same `SIMD_WIDTH` elements: the scalar kernel agrees with the general update to `rel` of the
 /// correction, and the SIMD lanes equal the scalar kernel bit for bit.
-fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; 4], p: &E::Params, c: &Case, rel: f32) {
+fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E::Params, c: &Case, rel: f32) {
     let (mut xg, mut xs, mut xv) = (c.x.clone(), c.x.clone(), c.x.clone());
     let (mut lg, mut ls, mut lv) = (c.lambda, c.lambda, c.lambda);
-    let declined = if E::PLAIN_X4 { E::project_plain_x4(es, p, &mut xv[..], &c.w, &mut lv, INV_H2, 1.0) } else { 0 };
+    let declined =
+        if E::PLAIN_WIDE { E::project_plain_wide(es, p, &mut xv[..], &c.w, &mut lv, INV_H2, 1.0) } else { 0 };
     for (l, e) in es.iter().enumerate() {
         general(e, p, &mut xg, &c.w, &mut lg[l]);
         let done = e.project_plain(p, &mut xs[..], &c.w, &mut ls[l], INV_H2, 1.0);
-        if !E::PLAIN_X4 {
+        if !E::PLAIN_WIDE {
             e.project_plain(p, &mut xv[..], &c.w, &mut lv[l], INV_H2, 1.0);
         }
         assert_eq!(done, declined & (1 << l) == 0, "{what}: SIMD lane {l} and scalar kernel disagree on declining");
@@ -66,12 +69,22 @@ fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; 4], p: &E::Params, 
     }
     assert_eq!(xs, xv, "{what}: SIMD positions differ from the scalar kernel");
     assert_eq!(ls, lv, "{what}: SIMD multipliers differ from the scalar kernel");
+    if E::PLAIN_WIDE && declined == 0 {
+        // The padded storage the solver runs on (one 16-byte load and store per particle).
+        let mut xa: Vec<Vec3A> = c.x.iter().map(|&p| p.into()).collect();
+        let mut la = c.lambda;
+        let declined_a = E::project_plain_wide(es, p, &mut xa[..], &c.w, &mut la, INV_H2, 1.0);
+        assert_eq!(declined_a, 0, "{what}: padded lanes declined");
+        let xa: Vec<Vec3> = xa.into_iter().map(Vec3::from).collect();
+        assert_eq!(xa, xv, "{what}: padded SIMD positions differ");
+        assert_eq!(la, lv, "{what}: padded SIMD multipliers differ");
+    }
     for i in 0..c.x.len() {
         let moved = (xg[i] - c.x[i]).length().max(1e-9);
         let err = (xs[i] - xg[i]).length();
         assert!(err <= rel * moved + 1e-7, "{what}: particle {i} off by {err:e} of a move of {moved:e}");
     }
-    for l in 0..4 {
+    for l in 0..SIMD_WIDTH {
         assert!(
             (ls[l] - lg[l]).abs() <= rel * (lg[l] - c.lambda[l]).abs() + 1e-9,
             "{what}: λ {l}: {} vs {}",
@@ -144,7 +157,7 @@ fn threads_give_the_same_result_as_one_thread() {
     // 128 × 128 cloth: spring groups of about 8,000 elements, above the parallel threshold.
     let opts = SceneOptions { resolution: Some(128), stiffness: 1e5, ..SceneOptions::default() };
     let run = |threads| {
-        let mut s = CpuSolver::<Vec3>::new(scene::build("cloth", &opts).unwrap());
+        let mut s = CpuSolver::<Vec3A>::new(scene::build("cloth", &opts).unwrap());
         let settings = Settings { iterations: 10, threads, ..Settings::default() };
         for _ in 0..10 {
             s.step_frame(&settings);
@@ -155,6 +168,39 @@ fn threads_give_the_same_result_as_one_thread() {
     assert_eq!(one, run(0), "every core");
     assert_eq!(one, run(2), "two threads");
     assert_eq!(one, run(3), "three threads");
+}
+
+#[test]
+fn padded_and_packed_positions_give_the_same_bits() {
+    // The solver runs on `Vec3A` (16-byte particles, for the SIMD gathers and scatters); the
+    // generic code over `Vec3` is the plain reference. Every iteration and mode on both.
+    use eapbd::constraints::Form;
+    use eapbd::solver::{EnergyAware, Method};
+    let cloth = SceneOptions { resolution: Some(32), stiffness: 1e5, ..SceneOptions::default() };
+    let base = Settings { iterations: 5, substeps: 2, damping: 0.5, ..Settings::default() };
+    let cases = [
+        ("cloth-sphere", cloth, base),
+        ("cloth-sphere", cloth, Settings { threads: 1, ..base }),
+        ("bunny-paper", SceneOptions::default(), base),
+        ("cloth-sphere", cloth, Settings { form: Form::Energy, ..base }),
+        ("cloth-sphere", cloth, Settings { constraint_damping: 1e-3, ..base }),
+        ("cloth-sphere", cloth, Settings { method: Method::Jacobi, ..base }),
+        ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Local, ..base }),
+        ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Global, ..base }),
+        ("cube", SceneOptions::default(), base),
+    ];
+    for (name, opts, settings) in cases {
+        let scene = scene::build(name, &opts).unwrap();
+        let (mut a, mut b) = (CpuSolver::<Vec3>::new(scene.clone()), CpuSolver::<Vec3A>::new(scene));
+        for _ in 0..20 {
+            a.step_frame(&settings);
+            b.step_frame(&settings);
+        }
+        let what = format!("{name}, {settings:?}");
+        assert_eq!(a.particles.positions(), b.particles.positions(), "{what}: positions");
+        assert_eq!(a.particles.velocities(), b.particles.velocities(), "{what}: velocities");
+        assert_eq!(a.ledger.dissipated.to_bits(), b.ledger.dissipated.to_bits(), "{what}: dissipated work");
+    }
 }
 
 #[test]
@@ -173,7 +219,7 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
     ];
     for (name, opts, settings) in cases {
         let run = |threads| {
-            let mut s = CpuSolver::<Vec3>::new(scene::build(name, &opts).unwrap());
+            let mut s = CpuSolver::<Vec3A>::new(scene::build(name, &opts).unwrap());
             let settings = Settings { threads, ..settings };
             for _ in 0..30 {
                 s.step_frame(&settings);

@@ -8,7 +8,7 @@ use common::{check_gradients, rand_vec};
 use eapbd::constraints::{Element, Membrane, MembraneParams, Orthotropic};
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings};
-use glam::{DMat3, DVec3, Vec2, Vec3};
+use glam::{DMat3, DVec3, Vec2, Vec3A};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
@@ -141,7 +141,7 @@ fn hanging_extent(warp: f64, weft: f64, frames: u32) -> f32 {
     };
     let sc = scene::build("cloth", &opts).unwrap();
     assert!(sc.springs.is_none() && sc.membranes.is_some(), "aniso-cloth replaces the springs");
-    let mut sv = CpuSolver::<Vec3>::new(sc);
+    let mut sv = CpuSolver::<Vec3A>::new(sc);
     let s = Settings { substeps: 4, iterations: 10, damping: 1.0, ..Settings::default() };
     for _ in 0..frames {
         sv.step_frame(&s);

@@ -7,10 +7,10 @@
 
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Method, Settings};
-use glam::Vec3;
+use glam::Vec3A;
 
 /// FNV-1a over the bit patterns of positions and velocities.
-fn checksum(s: &CpuSolver<Vec3>) -> u64 {
+fn checksum(s: &CpuSolver<Vec3A>) -> u64 {
     let mut h = 0xcbf29ce484222325u64;
     for v in s.particles.x.iter().chain(&s.particles.v) {
         for c in v.to_array() {
@@ -24,7 +24,7 @@ fn checksum(s: &CpuSolver<Vec3>) -> u64 {
 }
 
 fn run(name: &str, s: Settings) -> u64 {
-    let mut sv = CpuSolver::<Vec3>::new(
+    let mut sv = CpuSolver::<Vec3A>::new(
         scene::build(name, &SceneOptions { resolution: Some(15), ..SceneOptions::default() }).unwrap(),
     );
     for _ in 0..60 {

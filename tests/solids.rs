@@ -4,7 +4,7 @@
 use eapbd::material::Model;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, EnergyAware, Settings};
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 
 fn opts(model: Model) -> SceneOptions {
     SceneOptions { solid: Some(model), ..SceneOptions::default() }
@@ -13,9 +13,9 @@ fn opts(model: Model) -> SceneOptions {
 #[test]
 fn the_beam_sags_and_stays_finite_with_every_model() {
     for model in Model::ALL {
-        let mut sv = CpuSolver::<Vec3>::new(scene::build("beam", &opts(model)).unwrap());
+        let mut sv = CpuSolver::<Vec3A>::new(scene::build("beam", &opts(model)).unwrap());
         let start = sv.particles.x.clone();
-        let tip = |x: &[Vec3]| {
+        let tip = |x: &[Vec3A]| {
             x.iter().filter(|p| p.x > 0.49).map(|p| p.y).sum::<f32>() / x.iter().filter(|p| p.x > 0.49).count() as f32
         };
         for _ in 0..240 {
@@ -44,8 +44,8 @@ fn a_mirrored_cube_regains_positive_volume() {
             p.x = -p.x;
         }
         let tets = sc.tets.clone().unwrap();
-        let mut sv = CpuSolver::<Vec3>::new(sc);
-        let det = |sv: &CpuSolver<Vec3>| -> Vec<f32> {
+        let mut sv = CpuSolver::<Vec3A>::new(sc);
+        let det = |sv: &CpuSolver<Vec3A>| -> Vec<f32> {
             tets.elements.iter().map(|t| t.deformation(&t.p.map(|i| sv.particles.x[i as usize])).det()).collect()
         };
         assert!(det(&sv).iter().all(|&d| d < 0.0), "{model:?}: not inverted at the start");
@@ -62,7 +62,7 @@ fn a_mirrored_cube_regains_positive_volume() {
 #[test]
 fn energy_aware_settings_run_on_tetrahedra() {
     for mode in [EnergyAware::Local, EnergyAware::Global] {
-        let mut sv = CpuSolver::<Vec3>::new(scene::build("cube", &SceneOptions::default()).unwrap());
+        let mut sv = CpuSolver::<Vec3A>::new(scene::build("cube", &SceneOptions::default()).unwrap());
         for _ in 0..120 {
             sv.step_frame(&Settings { energy_aware: mode, ..Settings::default() });
         }
@@ -89,7 +89,7 @@ fn centroid_tetrahedra_pair_each_surface_triangle_with_the_centroid() {
     let mass = |s: &eapbd::scene::Scene| s.inv_mass.iter().map(|w| 1.0 / w).sum::<f32>();
     assert!((mass(&sc) - 27.0).abs() < 1e-3 && (mass(&volume) - 27.0).abs() < 1e-3);
     // It falls, lands and keeps its volume.
-    let mut sv = CpuSolver::<Vec3>::new(sc.clone());
+    let mut sv = CpuSolver::<Vec3A>::new(sc.clone());
     for _ in 0..120 {
         sv.step_frame(&Settings { substeps: 2, iterations: 10, damping: 1.0, ..Settings::default() });
     }

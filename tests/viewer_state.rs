@@ -96,7 +96,7 @@ fn widgets_change_the_solver_settings_on_the_next_frame() {
     session.state.backend = Backend::Cpu;
     frame(&ctx, &mut session, &target);
     let Simulation::Cpu(c) = session.simulation() else { panic!("expected the CPU backend") };
-    assert!(c.particles.x.iter().zip(&x_after).all(|(a, b)| a.distance(*b) < 0.05));
+    assert!(c.particles.positions().iter().zip(&x_after).all(|(a, b)| a.distance(*b) < 0.05));
     assert!(session.stats.is_some());
 }
 

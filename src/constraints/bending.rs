@@ -174,10 +174,10 @@ impl Element<4> for Bend {
     }
 
     /// [`Bend::project_plain`] lane by lane, operation for operation.
-    const PLAIN_X4: bool = true;
+    const PLAIN_WIDE: bool = true;
 
     #[inline(always)]
-    fn project_plain_x4<V: Vector, P: Positions<V> + ?Sized>(
+    fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
         elems: &[Self],
         _: &BendParams,
         x: &mut P,
@@ -186,56 +186,62 @@ impl Element<4> for Bend {
         inv_h2: V::S,
         sor: V::S,
     ) -> u32 {
-        use wide::f32x4;
-        // Arrays written out: `map` and `from_fn` are not always inlined in a body this large.
-        let el4 = [elems[0], elems[1], elems[2], elems[3]];
-        let slot = |n: usize| [el4[0].p[n] as usize, el4[1].p[n] as usize, el4[2].p[n] as usize, el4[3].p[n] as usize];
+        use simd::{Lanes, WIDTH, per_lane};
+        let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
+        let slot = |n: usize| -> [usize; WIDTH] {
+            let mut s = [0; WIDTH];
+            for (s, e) in s.iter_mut().zip(el) {
+                *s = e.p[n] as usize;
+            }
+            s
+        };
         let idx = [slot(0), slot(1), slot(2), slot(3)];
-        let xs = [simd::gather(x, idx[0]), simd::gather(x, idx[1]), simd::gather(x, idx[2]), simd::gather(x, idx[3])];
-        let wl = |i: [usize; 4]| simd::lanes([w[i[0]], w[i[1]], w[i[2]], w[i[3]]]);
-        let ws = [wl(idx[0]), wl(idx[1]), wl(idx[2]), wl(idx[3])];
+        let xs =
+            [simd::gather(x, &idx[0]), simd::gather(x, &idx[1]), simd::gather(x, &idx[2]), simd::gather(x, &idx[3])];
+        let wl = |i: &[usize; WIDTH]| per_lane(|l| w[i[l]].to_f64() as f32);
+        let ws = [wl(&idx[0]), wl(&idx[1]), wl(&idx[2]), wl(&idx[3])];
         let e = xs[1] - xs[0];
         let (a, b) = (xs[2] - xs[0], xs[3] - xs[0]);
         let n1 = e.cross(a);
         let n2 = b.cross(e);
         let e2 = e.length_squared();
         let (n1s, n2s) = (n1.length_squared(), n2.length_squared());
-        let small = f32x4::splat(1e-12);
+        let small = Lanes::splat(1e-12);
         let mut ok = e2.simd_gt(small) & n1s.simd_gt(small * e2) & n2s.simd_gt(small * e2);
-        let el = e2.sqrt();
-        let (theta, covered) = simd::atan2(n1.cross(n2).dot(e), n1.dot(n2) * el);
+        let elen = e2.sqrt();
+        let (theta, covered) = simd::atan2(n1.cross(n2).dot(e), n1.dot(n2) * elen);
         ok &= covered;
-        let one = f32x4::ONE;
+        let one = Lanes::ONE;
         let inv_e2 = one / e2;
-        let (q1, q2) = (el / n1s, el / n2s);
+        let (q1, q2) = (elen / n1s, elen / n2s);
         let (t2, t3) = (a.dot(e) * inv_e2, b.dot(e) * inv_e2);
         let g2 = n1 * -q1;
         let g3 = n2 * -q2;
         let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
         let g1 = -(g2 * t2) - g3 * t3;
-        let sum = ws[0] * g0.length_squared() + ws[1] * g1.length_squared() + (ws[2] * q1 + ws[3] * q2) * el;
-        let alpha_tilde = f32x4::splat(inv_h2.to_f64() as f32) / f32x4::new([el4[0].k, el4[1].k, el4[2].k, el4[3].k]);
+        let sum = ws[0] * g0.length_squared() + ws[1] * g1.length_squared() + (ws[2] * q1 + ws[3] * q2) * elen;
+        let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / per_lane(|l| el[l].k);
         let denom = sum + alpha_tilde;
-        ok &= denom.simd_gt(f32x4::splat(1e-20));
-        let pi = f32x4::splat(std::f64::consts::PI as f32);
+        ok &= denom.simd_gt(Lanes::splat(1e-20));
+        let pi = Lanes::splat(std::f64::consts::PI as f32);
         let two_pi = pi + pi;
-        let d = theta - f32x4::new([el4[0].rest_angle, el4[1].rest_angle, el4[2].rest_angle, el4[3].rest_angle]);
+        let d = theta - per_lane(|l| el[l].rest_angle);
         let d = d.simd_gt(pi).select(d - two_pi, d);
         let cval = d.simd_le(-pi).select(d + two_pi, d);
-        let lam = simd::lanes([lambda[0], lambda[1], lambda[2], lambda[3]]);
-        let sor = f32x4::splat(sor.to_f64() as f32);
-        let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, f32x4::ZERO);
+        let lam = simd::lanes(lambda);
+        let sor = Lanes::splat(sor.to_f64() as f32);
+        let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, Lanes::ZERO);
         let mask = ok.to_bitmask();
-        let new_lam: [V::S; 4] = simd::unlanes(lam + dl);
-        for l in 0..4 {
+        let new_lam: [V::S; WIDTH] = simd::unlanes(lam + dl);
+        for (l, (lambda, new)) in lambda.iter_mut().zip(new_lam).enumerate() {
             if mask & (1 << l) != 0 {
-                lambda[l] = new_lam[l];
+                *lambda = new;
             }
         }
-        simd::scatter(x, idx[0], xs[0] + g0 * (ws[0] * dl), mask);
-        simd::scatter(x, idx[1], xs[1] + g1 * (ws[1] * dl), mask);
-        simd::scatter(x, idx[2], xs[2] + g2 * (ws[2] * dl), mask);
-        simd::scatter(x, idx[3], xs[3] + g3 * (ws[3] * dl), mask);
-        !mask & 0b1111
+        simd::scatter(x, &idx[0], xs[0] + g0 * (ws[0] * dl), mask);
+        simd::scatter(x, &idx[1], xs[1] + g1 * (ws[1] * dl), mask);
+        simd::scatter(x, &idx[2], xs[2] + g2 * (ws[2] * dl), mask);
+        simd::scatter(x, &idx[3], xs[3] + g3 * (ws[3] * dl), mask);
+        !mask & ((1 << WIDTH) - 1)
     }
 }

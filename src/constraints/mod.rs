@@ -14,6 +14,7 @@ use crate::math::Vector;
 
 pub use bending::{Bend, BendParams};
 pub use membrane::{Membrane, MembraneParams, Orthotropic};
+pub use simd::WIDTH as SIMD_WIDTH;
 pub use spring::{Spring, SpringMaterial, SpringParams};
 pub use tet::{Tet, TetParams};
 
@@ -107,14 +108,15 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
         false
     }
 
-    /// `true` where the family overrides [`Element::project_plain_x4`].
-    const PLAIN_X4: bool = false;
+    /// `true` where the family overrides [`Element::project_plain_wide`].
+    const PLAIN_WIDE: bool = false;
 
-    /// [`Element::project_plain`] for four elements of one color group at once, in 4-wide SIMD
-    /// (called for `f32` only: `elems` and `lambda` hold exactly four). Returns a mask of the
-    /// lanes it declined (bit `l` set: element `l` left unchanged for the scalar path).
+    /// [`Element::project_plain`] for [`SIMD_WIDTH`] elements of one color group at once, one per
+    /// SIMD lane (called for `f32` only: `elems` and `lambda` hold exactly [`SIMD_WIDTH`]).
+    /// Returns a mask of the lanes it declined (bit `l` set: element `l` left unchanged for the
+    /// scalar path).
     #[inline(always)]
-    fn project_plain_x4<V: Vector, P: Positions<V> + ?Sized>(
+    fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
         _elems: &[Self],
         _p: &Self::Params,
         _x: &mut P,
@@ -123,7 +125,7 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
         _inv_h2: V::S,
         _sor: V::S,
     ) -> u32 {
-        0b1111
+        (1 << SIMD_WIDTH) - 1
     }
 }
 

@@ -1,31 +1,43 @@
-//! Four elements at once in 4-wide SIMD (`wide::f32x4`, SSE2 on x86-64) for the in-place
-//! Gauss-Seidel kernels: 3-vectors of four lanes, gathers and scatters through [`Positions`], and
-//! `atan2` lane by lane.
+//! [`WIDTH`] elements at once in SIMD for the in-place Gauss-Seidel kernels: 3-vectors of
+//! [`WIDTH`] lanes, gathers and scatters through [`Positions`], and `atan2` lane by lane.
+//!
+//! The width is chosen when the crate is compiled: 8 lanes (`wide::f32x8`, one AVX register)
+//! where the target has AVX, which the project's `.cargo/config.toml` enables on machines that
+//! have it (`target-cpu=native`), else 4 (`wide::f32x4`, SSE2 on x86-64, NEON on ARM).
 //!
 //! Every operation is the one the scalar kernels perform, in the same order (glam's `dot` and
 //! `cross`, [`Real::fast_atan2`]), so a lane gives the same bits as the scalar kernel on that
-//! element. The kernels run on `f32` only; the conversions below are the identity there.
+//! element, at either width. The kernels run on `f32` only; the conversions below are the
+//! identity there.
 
 use std::ops::{Add, Mul, Neg, Sub};
-
-use glam::Vec3;
-use wide::f32x4;
 
 use super::Positions;
 use crate::math::prelude::*;
 
+/// One SIMD register of `f32` lanes.
+#[cfg(target_feature = "avx")]
+pub(crate) type Lanes = wide::f32x8;
+/// One SIMD register of `f32` lanes.
+#[cfg(not(target_feature = "avx"))]
+pub(crate) type Lanes = wide::f32x4;
+
+/// Elements per SIMD kernel call: the `f32` lanes of one SIMD register (8 where the target has
+/// AVX, else 4).
+pub const WIDTH: usize = std::mem::size_of::<Lanes>() / 4;
+
 /// A 3-vector per lane.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct V3 {
-    pub x: f32x4,
-    pub y: f32x4,
-    pub z: f32x4,
+    pub x: Lanes,
+    pub y: Lanes,
+    pub z: Lanes,
 }
 
 impl V3 {
     /// `(x·x') + (y·y') + (z·z')`, glam's order.
     #[inline(always)]
-    pub fn dot(self, o: V3) -> f32x4 {
+    pub fn dot(self, o: V3) -> Lanes {
         (self.x * o.x) + (self.y * o.y) + (self.z * o.z)
     }
 
@@ -37,7 +49,7 @@ impl V3 {
 
     /// Squared length.
     #[inline(always)]
-    pub fn length_squared(self) -> f32x4 {
+    pub fn length_squared(self) -> Lanes {
         self.dot(self)
     }
 }
@@ -66,10 +78,10 @@ impl Neg for V3 {
     }
 }
 
-impl Mul<f32x4> for V3 {
+impl Mul<Lanes> for V3 {
     type Output = V3;
     #[inline(always)]
-    fn mul(self, s: f32x4) -> V3 {
+    fn mul(self, s: Lanes) -> V3 {
         V3 { x: self.x * s, y: self.y * s, z: self.z * s }
     }
 }
@@ -80,37 +92,77 @@ pub(crate) fn is_f32<S: Real>() -> bool {
     std::any::TypeId::of::<S>() == std::any::TypeId::of::<f32>()
 }
 
-/// Four scalars as lanes.
+/// Lane `l` from `f(l)`.
 #[inline(always)]
-pub(crate) fn lanes<S: Real>(v: [S; 4]) -> f32x4 {
-    f32x4::new([v[0].to_f64() as f32, v[1].to_f64() as f32, v[2].to_f64() as f32, v[3].to_f64() as f32])
+pub(crate) fn per_lane(f: impl Fn(usize) -> f32) -> Lanes {
+    let mut a = [0.0f32; WIDTH];
+    for (l, v) in a.iter_mut().enumerate() {
+        *v = f(l);
+    }
+    Lanes::new(a)
+}
+
+/// Scalars as lanes.
+#[inline(always)]
+pub(crate) fn lanes<S: Real>(v: &[S]) -> Lanes {
+    per_lane(|l| v[l].to_f64() as f32)
 }
 
 /// Lanes back as scalars.
 #[inline(always)]
-pub(crate) fn unlanes<S: Real>(v: f32x4) -> [S; 4] {
+pub(crate) fn unlanes<S: Real>(v: Lanes) -> [S; WIDTH] {
     let a = v.to_array();
-    [S::from_f64(a[0] as f64), S::from_f64(a[1] as f64), S::from_f64(a[2] as f64), S::from_f64(a[3] as f64)]
-}
-
-/// The positions of particles `idx`, one per lane.
-#[inline(always)]
-pub(crate) fn gather<V: Vector, P: Positions<V> + ?Sized>(x: &P, idx: [usize; 4]) -> V3 {
-    let p = [x.get(idx[0]).to_vec3(), x.get(idx[1]).to_vec3(), x.get(idx[2]).to_vec3(), x.get(idx[3]).to_vec3()];
-    V3 {
-        x: f32x4::new([p[0].x, p[1].x, p[2].x, p[3].x]),
-        y: f32x4::new([p[0].y, p[1].y, p[2].y, p[3].y]),
-        z: f32x4::new([p[0].z, p[1].z, p[2].z, p[3].z]),
+    let mut out = [S::zero(); WIDTH];
+    for (o, a) in out.iter_mut().zip(a) {
+        *o = S::from_f64(a as f64);
     }
+    out
 }
 
-/// Writes lane `l` of `v` to particle `idx[l]` for every lane set in `mask`.
+/// Quarters of [`Lanes`] (one SSE register each).
+const QUARTERS: usize = WIDTH / 4;
+
+/// Lanes from their quarters, lowest first.
 #[inline(always)]
-pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: [usize; 4], v: V3, mask: u32) {
-    let (vx, vy, vz) = (v.x.to_array(), v.y.to_array(), v.z.to_array());
-    for l in 0..4 {
-        if mask & (1 << l) != 0 {
-            x.set(idx[l], V::from_vec3(Vec3::new(vx[l], vy[l], vz[l])));
+fn join(q: [wide::f32x4; QUARTERS]) -> Lanes {
+    bytemuck::cast(q)
+}
+
+/// The quarters of `v`, lowest first.
+#[inline(always)]
+fn split(v: Lanes) -> [wide::f32x4; QUARTERS] {
+    bytemuck::cast(v)
+}
+
+/// The positions of particles `idx`, one per lane: each four particles' `[x, y, z, 0]`
+/// ([`Vector::to_quad`], one 16-byte load for [`glam::Vec3A`]) transposed into lanes.
+#[inline(always)]
+pub(crate) fn gather<V: Vector, P: Positions<V> + ?Sized>(x: &P, idx: &[usize; WIDTH]) -> V3 {
+    let mut c = [[wide::f32x4::ZERO; QUARTERS]; 3];
+    for q in 0..QUARTERS {
+        let i = &idx[4 * q..4 * q + 4];
+        let t = wide::f32x4::transpose([
+            x.get(i[0]).to_quad(),
+            x.get(i[1]).to_quad(),
+            x.get(i[2]).to_quad(),
+            x.get(i[3]).to_quad(),
+        ]);
+        (c[0][q], c[1][q], c[2][q]) = (t[0], t[1], t[2]);
+    }
+    V3 { x: join(c[0]), y: join(c[1]), z: join(c[2]) }
+}
+
+/// Writes lane `l` of `v` to particle `idx[l]` for every lane set in `mask` (the transpose of
+/// [`gather`]).
+#[inline(always)]
+pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: &[usize; WIDTH], v: V3, mask: u32) {
+    let (vx, vy, vz) = (split(v.x), split(v.y), split(v.z));
+    for q in 0..QUARTERS {
+        let t = wide::f32x4::transpose([vx[q], vy[q], vz[q], wide::f32x4::ZERO]);
+        for (l, t) in t.into_iter().enumerate() {
+            if mask & (1 << (4 * q + l)) != 0 {
+                x.set(idx[4 * q + l], V::from_quad(t));
+            }
         }
     }
 }
@@ -118,22 +170,22 @@ pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: [usiz
 /// `atan2(y, x)` lane by lane with the operations of the scalar `f32` `fast_atan2`, and a mask of
 /// the lanes it covers: the others (zero, infinite or NaN inputs) are left to the scalar path.
 #[inline(always)]
-pub(crate) fn atan2(y: f32x4, x: f32x4) -> (f32x4, f32x4) {
+pub(crate) fn atan2(y: Lanes, x: Lanes) -> (Lanes, Lanes) {
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
     let (ax, ay) = (x.abs(), y.abs());
     let swap = ay.simd_gt(ax);
     let (lo, hi) = (swap.select(ax, ay), swap.select(ay, ax));
-    let ok = hi.simd_gt(f32x4::ZERO) & hi.simd_lt(f32x4::splat(f32::INFINITY)) & lo.simd_le(hi);
-    let big = lo.simd_gt(f32x4::splat(0.414_213_57) * hi);
+    let ok = hi.simd_gt(Lanes::ZERO) & hi.simd_lt(Lanes::splat(f32::INFINITY)) & lo.simd_le(hi);
+    let big = lo.simd_gt(Lanes::splat(0.414_213_57) * hi);
     let t = big.select(lo - hi, lo) / big.select(lo + hi, hi);
-    let base = big.select(f32x4::splat(FRAC_PI_4), f32x4::ZERO);
+    let base = big.select(Lanes::splat(FRAC_PI_4), Lanes::ZERO);
     let z = t * t;
-    let poly = (((f32x4::splat(8.053_744_5e-2) * z - f32x4::splat(1.387_768_6e-1)) * z + f32x4::splat(1.997_771_1e-1))
+    let poly = (((Lanes::splat(8.053_744_5e-2) * z - Lanes::splat(1.387_768_6e-1)) * z + Lanes::splat(1.997_771_1e-1))
         * z
-        - f32x4::splat(3.333_295e-1))
+        - Lanes::splat(3.333_295e-1))
         * z;
     let r = base + (t + t * poly);
-    let r = swap.select(f32x4::splat(FRAC_PI_2) - r, r);
-    let r = x.simd_lt(f32x4::ZERO).select(f32x4::splat(PI) - r, r);
-    (r | (y & f32x4::splat(-0.0)), ok)
+    let r = swap.select(Lanes::splat(FRAC_PI_2) - r, r);
+    let r = x.simd_lt(Lanes::ZERO).select(Lanes::splat(PI) - r, r);
+    (r | (y & Lanes::splat(-0.0)), ok)
 }

@@ -7,7 +7,7 @@ use std::io::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
-use glam::Vec3;
+use glam::Vec3A;
 
 use super::plot::{Legend, Line, Panel, save_panels};
 use crate::error::{Error, Result};
@@ -145,7 +145,7 @@ pub fn run_one(
     dt: f32,
 ) -> Result<RunResult> {
     let so = SceneOptions { resolution: Some(opts.resolution), stiffness, ..SceneOptions::default() };
-    let mut sv = CpuSolver::<Vec3>::new(scene::build(scene_name, &so)?);
+    let mut sv = CpuSolver::<Vec3A>::new(scene::build(scene_name, &so)?);
     let s = variant.settings(Settings { dt, iterations, ..Settings::default() });
     s.validate()?;
     let frames = (opts.duration / dt).round().max(1.0) as u32;

@@ -22,7 +22,7 @@
 
 use std::time::Instant;
 
-use glam::{DVec3, Vec3};
+use glam::{DVec3, Vec3, Vec3A};
 
 use super::stability::Gpu;
 use crate::constraints::Form;
@@ -303,15 +303,15 @@ pub fn start_state(opts: &StudyOptions) -> Result<Start> {
     let t0 = Instant::now();
     let warmup = Settings { dt: opts.dt, substeps: WARMUP_SUBSTEPS, iterations: 1, ..Settings::default() };
     warmup.validate()?;
-    let mut sv = CpuSolver::<Vec3>::new(scene.clone());
+    let mut sv = CpuSolver::<Vec3A>::new(scene.clone());
     for _ in 0..opts.start_frame {
         sv.step_frame(&warmup);
     }
     if !sv.particles.x.iter().chain(&sv.particles.v).all(|p| p.is_finite()) {
         return Err(Error::Report(format!("the start state of {} is not finite", opts.scene)));
     }
-    scene.positions = sv.particles.x.clone();
-    Ok(Start { scene, velocities: sv.particles.v.clone(), wall: t0.elapsed().as_secs_f64() })
+    scene.positions = sv.particles.positions();
+    Ok(Start { scene, velocities: sv.particles.velocities(), wall: t0.elapsed().as_secs_f64() })
 }
 
 /// The f64 reference trajectory.
@@ -505,7 +505,7 @@ fn run_variant(
 ) -> Result<(f64, Vec<FramePositions>)> {
     let mut sim = Simulation::new(backend, start.scene.clone(), gpu.map(|(c, k)| (c, k)))?;
     match &mut sim {
-        Simulation::Cpu(c) => c.particles.v.copy_from_slice(&start.velocities),
+        Simulation::Cpu(c) => c.particles.set_velocities(&start.velocities),
         Simulation::Gpu(g) => g.set_velocities(&start.velocities)?,
     }
     let mut times = Vec::with_capacity(frames as usize);

@@ -522,7 +522,7 @@ fn mean_edge(scene: &Scene, x: &[Vec3]) -> f64 {
 fn measure(sim: &Simulation, measure: &Scene, frame: u32) -> Result<(FrameStats, Vec<Vec3>)> {
     match sim {
         Simulation::Cpu(c) => {
-            Ok((FrameStats::of_state(measure, &StateView::of_solver(c), frame, 0.0), c.particles.x.clone()))
+            Ok((FrameStats::of_state(measure, &StateView::of_solver(c), frame, 0.0), c.particles.positions()))
         }
         Simulation::Gpu(g) => {
             if std::ptr::eq(g.scene(), measure) {
@@ -559,7 +559,7 @@ pub fn run_case(case: &Case, backend: Backend, gpu: Option<&Gpu>) -> Result<Outc
     case.settings.validate()?;
     let mut sim = Simulation::new(backend, scene, gpu.map(|(c, k)| (c, k)))?;
     match &mut sim {
-        Simulation::Cpu(c) => c.particles.v.copy_from_slice(&v0),
+        Simulation::Cpu(c) => c.particles.set_velocities(&v0),
         Simulation::Gpu(g) => g.set_velocities(&v0)?,
     }
     let t0 = Instant::now();

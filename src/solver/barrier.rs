@@ -89,7 +89,8 @@ impl SpinBarrier {
 }
 
 /// Thread `t`'s share of `range` when `threads` threads split it: consecutive chunks of a multiple
-/// of `align` items (4 for elements: whole SIMD batches), the last one shorter, possibly empty.
+/// of `align` items (the SIMD width for elements: whole SIMD batches), the last one shorter,
+/// possibly empty.
 /// The shares of `t = 0..threads` cover `range` exactly, without overlap.
 pub(crate) fn share(range: Range<usize>, t: usize, threads: usize, align: usize) -> Range<usize> {
     let chunk = range.len().div_ceil(threads.max(1)).next_multiple_of(align.max(1));

@@ -4,6 +4,7 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
+use crate::constraints::SIMD_WIDTH;
 use crate::constraints::simd::is_f32;
 use crate::constraints::{Element, Form, Positions, gather};
 use crate::math::prelude::*;
@@ -412,7 +413,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 }
 
 /// The sweep in the compliant form without constraint damping or the local mode: each element
-/// takes its family's lean kernel ([`Element::project_plain`], four at a time where the family has
+/// takes its family's lean kernel ([`Element::project_plain`], [`SIMD_WIDTH`] at a time where the family has
 /// a SIMD kernel and the precision is `f32`) and falls back to the general update where that
 /// declines. (On several threads, [`team`] runs the same kernels.)
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
@@ -446,15 +447,16 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
         }
     };
     let mut j = 0;
-    if E::PLAIN_X4 && is_f32::<V::S>() {
-        while j + 4 <= es.len() {
-            let declined = E::project_plain_x4(&es[j..j + 4], params, x, w, &mut ls[j..j + 4], k.inv_h2, k.sor);
-            for l in 0..4 {
+    if E::PLAIN_WIDE && is_f32::<V::S>() {
+        while j + SIMD_WIDTH <= es.len() {
+            let (e, l) = (&es[j..j + SIMD_WIDTH], &mut ls[j..j + SIMD_WIDTH]);
+            let declined = E::project_plain_wide(e, params, x, w, l, k.inv_h2, k.sor);
+            for l in 0..SIMD_WIDTH {
                 if declined & (1 << l) != 0 {
                     one(&es[j + l], &mut ls[j + l], x);
                 }
             }
-            j += 4;
+            j += SIMD_WIDTH;
         }
     }
     for (e, l) in es[j..].iter().zip(&mut ls[j..]) {

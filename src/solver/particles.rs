@@ -42,6 +42,24 @@ impl<V: Vector> Particles<V> {
         self.x.is_empty()
     }
 
+    /// The positions as `f32` 3-vectors (m).
+    pub fn positions(&self) -> Vec<glam::Vec3> {
+        self.x.iter().map(|p| p.to_vec3()).collect()
+    }
+
+    /// The velocities as `f32` 3-vectors (m/s).
+    pub fn velocities(&self) -> Vec<glam::Vec3> {
+        self.v.iter().map(|v| v.to_vec3()).collect()
+    }
+
+    /// Sets the velocities (m/s) from `f32` 3-vectors, one per particle.
+    pub fn set_velocities(&mut self, v: &[glam::Vec3]) {
+        assert_eq!(v.len(), self.v.len(), "one velocity per particle");
+        for (d, s) in self.v.iter_mut().zip(v) {
+            *d = V::from_vec3(*s);
+        }
+    }
+
     /// Mass of particle `i` (kg), 0 for a pinned particle (left out of mass-weighted sums).
     pub fn mass(&self, i: usize) -> V::S {
         if self.w[i] > V::S::zero() { V::S::one() / self.w[i] } else { V::S::zero() }

@@ -3,7 +3,7 @@
 //! same host-side write on both backends: the CPU solver's arrays, or one `vec4` of the GPU
 //! solver's position buffer (no kernel change: every kernel already treats `w = 0` as pinned).
 
-use glam::{Vec3, Vec4};
+use glam::{Vec3, Vec3A, Vec4};
 
 use crate::simulation::Simulation;
 
@@ -30,9 +30,9 @@ pub fn set_particle(sim: &mut Simulation, queue: &wgpu::Queue, i: u32, x: Vec3, 
     match sim {
         Simulation::Cpu(c) => {
             let p = &mut c.particles;
-            p.x[i] = x;
-            p.x_prev[i] = x;
-            p.v[i] = Vec3::ZERO;
+            p.x[i] = x.into();
+            p.x_prev[i] = x.into();
+            p.v[i] = Vec3A::ZERO;
             p.w[i] = w;
         }
         Simulation::Gpu(g) => {

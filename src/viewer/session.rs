@@ -389,7 +389,7 @@ impl Session {
             ColorMode::Strain => self.strain.encode(&self.queue, encoder, self.state.strain_scale),
             ColorMode::Energy => {
                 let e = match &self.sim {
-                    Simulation::Cpu(c) => Some(vertex_energy(c.scene(), &c.particles.x)),
+                    Simulation::Cpu(c) => Some(vertex_energy(c.scene(), &c.particles.positions())),
                     Simulation::Gpu(_) => None,
                 };
                 if let Some(e) = e {
@@ -528,8 +528,8 @@ fn transfer(old: &Simulation, new: &mut Simulation, ctx: &GpuContext) -> Result<
             if st.x.len() != b.particles.len() {
                 return Err(Error::Gpu("state size mismatch".into()));
             }
-            b.particles.x = st.x;
-            b.particles.v = st.v;
+            b.particles.x = st.x.iter().map(|&p| p.into()).collect();
+            b.particles.v = st.v.iter().map(|&v| v.into()).collect();
         }
     }
     Ok(())

@@ -8,7 +8,7 @@ use eapbd::constraints::{Element, Form};
 use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
 use eapbd::scene::{Family, Scene};
 use eapbd::solver::{CpuSolver, Method};
-use glam::Vec3;
+use glam::Vec3A;
 
 use super::cases::{Backend, Case};
 use super::timing::{Budget, Timing, time_frames};
@@ -112,7 +112,7 @@ fn row(case: &Case, scene: &Scene, backend: Backend) -> Row {
 pub fn cpu_row(case: &Case, scene: Scene, backend: Backend, budget: &Budget) -> anyhow::Result<Row> {
     let mut r = row(case, &scene, backend);
     let s = case.settings(backend);
-    let mut solver = CpuSolver::<Vec3>::new(scene);
+    let mut solver = CpuSolver::<Vec3A>::new(scene);
     r.timing = time_frames(budget, || {
         solver.step_frame(&s);
         Ok(())
@@ -124,9 +124,9 @@ pub fn cpu_row(case: &Case, scene: Scene, backend: Backend, budget: &Budget) -> 
 /// The arrays the CPU solver works on (bytes, from their lengths): particle state (`x`,
 /// `x_prev`, `v`, `w`), the elements of every family and one `f32` multiplier per constraint; with
 /// Jacobi also its per-constraint scale and per-particle correction.
-pub fn cpu_memory(solver: &CpuSolver<Vec3>, method: Method) -> Memory {
+pub fn cpu_memory(solver: &CpuSolver<Vec3A>, method: Method) -> Memory {
     let p = &solver.particles;
-    let mut particles = ((p.x.len() + p.x_prev.len() + p.v.len()) * size_of::<Vec3>() + p.w.len() * 4) as u64;
+    let mut particles = ((p.x.len() + p.x_prev.len() + p.v.len()) * size_of::<Vec3A>() + p.w.len() * 4) as u64;
     let scene = solver.scene();
     let mut constraints = 0u64;
     eapbd::for_each_family!(scene, |_i, f| constraints += element_bytes(f));
@@ -134,7 +134,7 @@ pub fn cpu_memory(solver: &CpuSolver<Vec3>, method: Method) -> Memory {
     constraints += m * size_of::<f32>() as u64;
     if method == Method::Jacobi {
         constraints += m * size_of::<f32>() as u64;
-        particles += (p.len() * size_of::<Vec3>()) as u64;
+        particles += (p.len() * size_of::<Vec3A>()) as u64;
     }
     Memory { total: particles + constraints, particles, constraints }
 }

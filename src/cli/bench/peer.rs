@@ -6,7 +6,7 @@ use std::time::Instant;
 use eapbd::metrics;
 use eapbd::scene;
 use eapbd::solver::{CpuSolver, Settings};
-use glam::Vec3;
+use glam::Vec3A;
 
 use super::cases::{Backend, peer_options};
 
@@ -34,7 +34,7 @@ pub struct Split {
 pub fn run_split(iterations: u32, substeps: u32, backend: Backend, frames: u32) -> anyhow::Result<Split> {
     let scene = scene::build("cloth", &peer_options())?;
     let (grid, grid_rest) = metrics::axis_aligned_edges(&scene);
-    let mut sv = CpuSolver::<Vec3>::new(scene);
+    let mut sv = CpuSolver::<Vec3A>::new(scene);
     let s = Settings { iterations, substeps, threads: backend.threads(), ..Settings::default() };
     let (mut ms, mut stretch_grid, mut stretch_all) = (0.0, 0.0, 0.0);
     for _ in 0..frames {

@@ -18,7 +18,7 @@ use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::{CpuSolver, FamilyState, plain_chunk, update};
-use crate::constraints::Element;
+use crate::constraints::{Element, SIMD_WIDTH};
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
 /// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster.
@@ -171,7 +171,7 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     for range in &f.colors {
         let group = range.start as usize..range.end as usize;
         let mine = match group.len() >= PARALLEL_MIN_GROUP {
-            true => share(group, me.t, me.threads, 4),
+            true => share(group, me.t, me.threads, SIMD_WIDTH),
             false if me.t == 0 => group,
             false => 0..0,
         };
