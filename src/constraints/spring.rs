@@ -12,7 +12,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{Element, Positions, Projection};
+use super::{Element, Positions, Projection, simd};
 use crate::math::prelude::*;
 
 /// The spring energy model.
@@ -134,9 +134,7 @@ impl Element<2> for Spring {
     }
 
     /// Hookean: `C = |d| − l₀`, `∇C = ±d/|d|` so `Σ w|∇C|² = w_a + w_b`, and the correction
-    /// `Δλ/|d|` scales `d` directly (one square root, one division on the dependency chain). A 4-wide SIMD version was
-    /// measured slower than this one: gathering and scattering two particles per spring costs
-    /// more than the few operations it would share.
+    /// `Δλ/|d|` scales `d` directly (one square root, one division on the dependency chain).
     #[inline(always)]
     fn project_plain<V: Vector, P: Positions<V> + ?Sized>(
         &self,
@@ -170,6 +168,53 @@ impl Element<2> for Spring {
         x.set(a, xa - d * (wa * s));
         x.set(b, xb + d * (wb * s));
         true
+    }
+
+    /// [`Spring::project_plain`] lane by lane, operation for operation.
+    const PLAIN_WIDE: bool = true;
+
+    #[inline(always)]
+    fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
+        elems: &[Self],
+        p: &SpringParams,
+        x: &mut P,
+        w: &[V::S],
+        lambda: &mut [V::S],
+        inv_h2: V::S,
+        sor: V::S,
+    ) -> u32 {
+        use simd::{Lanes, WIDTH, per_lane};
+        let all = (1 << WIDTH) - 1;
+        if p.material != SpringMaterial::Hookean {
+            return all;
+        }
+        let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
+        let (mut ia, mut ib) = ([0; WIDTH], [0; WIDTH]);
+        for (l, e) in el.iter().enumerate() {
+            (ia[l], ib[l]) = (e.a as usize, e.b as usize);
+        }
+        let (xa, xb) = (simd::gather(x, &ia), simd::gather(x, &ib));
+        let wa = per_lane(|l| w[ia[l]].to_f64() as f32);
+        let wb = per_lane(|l| w[ib[l]].to_f64() as f32);
+        let d = xb - xa;
+        let len = d.length_squared().sqrt();
+        let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / per_lane(|l| el[l].k);
+        let denom = wa + wb + alpha_tilde;
+        let ok = len.simd_gt(Lanes::splat(1e-12)) & denom.simd_gt(Lanes::splat(1e-20));
+        let l0 = per_lane(|l| el[l].rest);
+        let lam = simd::lanes(lambda);
+        let sor = Lanes::splat(sor.to_f64() as f32);
+        let s = ok.select((l0 - len - alpha_tilde * lam) * sor / (denom * len), Lanes::ZERO);
+        let mask = ok.to_bitmask();
+        let new_lam: [V::S; WIDTH] = simd::unlanes(lam + s * len);
+        for (l, (lambda, new)) in lambda.iter_mut().zip(new_lam).enumerate() {
+            if mask & (1 << l) != 0 {
+                *lambda = new;
+            }
+        }
+        simd::scatter(x, &ia, xa - d * (wa * s), mask);
+        simd::scatter(x, &ib, xb + d * (wb * s), mask);
+        !mask & all
     }
 }
 
