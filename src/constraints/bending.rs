@@ -232,12 +232,7 @@ impl Element<4> for Bend {
         let sor = Lanes::splat(sor.to_f64() as f32);
         let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, Lanes::ZERO);
         let mask = ok.to_bitmask();
-        let new_lam: [V::S; WIDTH] = simd::unlanes(lam + dl);
-        for (l, (lambda, new)) in lambda.iter_mut().zip(new_lam).enumerate() {
-            if mask & (1 << l) != 0 {
-                *lambda = new;
-            }
-        }
+        simd::store_masked(lambda, lam + dl, mask);
         simd::scatter(x, &idx[0], xs[0] + g0 * (ws[0] * dl), mask);
         simd::scatter(x, &idx[1], xs[1] + g1 * (ws[1] * dl), mask);
         simd::scatter(x, &idx[2], xs[2] + g2 * (ws[2] * dl), mask);

@@ -119,6 +119,18 @@ pub(crate) fn unlanes<S: Real>(v: Lanes) -> [S; WIDTH] {
     out
 }
 
+/// Writes lane `l` of `v` to `out[l]` for every lane set in `mask` (the multipliers of the
+/// elements a kernel did not decline).
+#[inline(always)]
+pub(crate) fn store_masked<S: Real>(out: &mut [S], v: Lanes, mask: u32) {
+    let v: [S; WIDTH] = unlanes(v);
+    for (l, (o, v)) in out.iter_mut().zip(v).enumerate() {
+        if mask & (1 << l) != 0 {
+            *o = v;
+        }
+    }
+}
+
 /// Quarters of [`Lanes`] (one SSE register each).
 const QUARTERS: usize = WIDTH / 4;
 

@@ -206,12 +206,7 @@ impl Element<2> for Spring {
         let sor = Lanes::splat(sor.to_f64() as f32);
         let s = ok.select((l0 - len - alpha_tilde * lam) * sor / (denom * len), Lanes::ZERO);
         let mask = ok.to_bitmask();
-        let new_lam: [V::S; WIDTH] = simd::unlanes(lam + s * len);
-        for (l, (lambda, new)) in lambda.iter_mut().zip(new_lam).enumerate() {
-            if mask & (1 << l) != 0 {
-                *lambda = new;
-            }
-        }
+        simd::store_masked(lambda, lam + s * len, mask);
         simd::scatter(x, &ia, xa - d * (wa * s), mask);
         simd::scatter(x, &ib, xb + d * (wb * s), mask);
         !mask & all
