@@ -188,18 +188,15 @@ impl Element<4> for Bend {
     ) -> u32 {
         use simd::{Lanes, WIDTH, per_lane};
         let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
-        let slot = |n: usize| -> [usize; WIDTH] {
-            let mut s = [0; WIDTH];
-            for (s, e) in s.iter_mut().zip(el) {
-                *s = e.p[n] as usize;
-            }
-            s
-        };
-        let idx = [slot(0), slot(1), slot(2), slot(3)];
+        let idx = simd::slots(el);
         let xs =
             [simd::gather(x, &idx[0]), simd::gather(x, &idx[1]), simd::gather(x, &idx[2]), simd::gather(x, &idx[3])];
-        let wl = |i: &[usize; WIDTH]| per_lane(|l| w[i[l]].to_f64() as f32);
-        let ws = [wl(&idx[0]), wl(&idx[1]), wl(&idx[2]), wl(&idx[3])];
+        let ws = [
+            simd::lanes_at(w, &idx[0]),
+            simd::lanes_at(w, &idx[1]),
+            simd::lanes_at(w, &idx[2]),
+            simd::lanes_at(w, &idx[3]),
+        ];
         let e = xs[1] - xs[0];
         let (a, b) = (xs[2] - xs[0], xs[3] - xs[0]);
         let n1 = e.cross(a);

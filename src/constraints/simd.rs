@@ -108,6 +108,24 @@ pub(crate) fn lanes<S: Real>(v: &[S]) -> Lanes {
     per_lane(|l| v[l].to_f64() as f32)
 }
 
+/// `v[idx[l]]` in lane `l` (the inverse masses of one particle slot).
+#[inline(always)]
+pub(crate) fn lanes_at<S: Real>(v: &[S], idx: &[usize; WIDTH]) -> Lanes {
+    per_lane(|l| v[idx[l]].to_f64() as f32)
+}
+
+/// The particle indices of `el` by slot: `slots(el)[n][l]` is particle `n` of element `l`.
+#[inline(always)]
+pub(crate) fn slots<E: super::Element<N>, const N: usize>(el: &[E; WIDTH]) -> [[usize; WIDTH]; N] {
+    let mut s = [[0; WIDTH]; N];
+    for (l, e) in el.iter().enumerate() {
+        for (n, p) in e.particles().into_iter().enumerate() {
+            s[n][l] = p as usize;
+        }
+    }
+    s
+}
+
 /// Lanes back as scalars.
 #[inline(always)]
 pub(crate) fn unlanes<S: Real>(v: Lanes) -> [S; WIDTH] {

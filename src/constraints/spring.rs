@@ -189,13 +189,9 @@ impl Element<2> for Spring {
             return all;
         }
         let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
-        let (mut ia, mut ib) = ([0; WIDTH], [0; WIDTH]);
-        for (l, e) in el.iter().enumerate() {
-            (ia[l], ib[l]) = (e.a as usize, e.b as usize);
-        }
+        let [ia, ib] = simd::slots(el);
         let (xa, xb) = (simd::gather(x, &ia), simd::gather(x, &ib));
-        let wa = per_lane(|l| w[ia[l]].to_f64() as f32);
-        let wb = per_lane(|l| w[ib[l]].to_f64() as f32);
+        let (wa, wb) = (simd::lanes_at(w, &ia), simd::lanes_at(w, &ib));
         let d = xb - xa;
         let len = d.length_squared().sqrt();
         let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / per_lane(|l| el[l].k);

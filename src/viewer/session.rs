@@ -389,7 +389,7 @@ impl Session {
             ColorMode::Strain => self.strain.encode(&self.queue, encoder, self.state.strain_scale),
             ColorMode::Energy => {
                 let e = match &self.sim {
-                    Simulation::Cpu(c) => Some(vertex_energy(c.scene(), &c.particles.positions())),
+                    Simulation::Cpu(c) => Some(vertex_energy(c.scene(), &c.particles.x)),
                     Simulation::Gpu(_) => None,
                 };
                 if let Some(e) = e {

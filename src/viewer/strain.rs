@@ -8,6 +8,7 @@ use wgpu::util::DeviceExt;
 use crate::coloring::Incidence;
 use crate::constraints::{Element, gather};
 use crate::gpu::{shader_module, shaders, storage_entry};
+use crate::math::Vector;
 use crate::scene::{Family, Scene};
 
 /// The colour ramp, blue (0) → green → yellow → red (1), linear RGB. Mirrors `ramp` in
@@ -47,8 +48,8 @@ pub fn vertex_strain(n: usize, edges: &[[u32; 2]], rest: &[f32], x: &[Vec3]) -> 
 
 /// Each particle's share of the elastic energy (J): every element's energy split evenly among
 /// its particles.
-pub fn vertex_energy(scene: &Scene, x: &[Vec3]) -> Vec<f32> {
-    fn family<E: Element<N>, const N: usize>(f: &Family<E, N>, x: &[Vec3], out: &mut [f32]) {
+pub fn vertex_energy<V: Vector<S = f32>>(scene: &Scene, x: &[V]) -> Vec<f32> {
+    fn family<E: Element<N>, V: Vector<S = f32>, const N: usize>(f: &Family<E, N>, x: &[V], out: &mut [f32]) {
         for e in &f.elements {
             let idx = e.particles();
             let share = e.energy(&f.params, &gather(x, idx)) / N as f32;

@@ -43,8 +43,8 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let plan = if a.quick { Plan::quick() } else { Plan::full() };
     let out = a.out.clone().unwrap_or_else(|| PathBuf::from(if a.quick { "target/bench-quick" } else { "docs/bench" }));
-    let total = plan.rows(!a.cpu_only) + 2 * plan.splits.len() + 1;
-    let bar = indicatif::ProgressBar::new(total as u64);
+    let total = |gpu: bool| (plan.rows(gpu) + 2 * plan.splits.len() + 1) as u64;
+    let bar = indicatif::ProgressBar::new(total(!a.cpu_only));
     if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}") {
         bar.set_style(style);
     }
@@ -52,6 +52,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     // Every CPU measurement first, the GPU last: lavapipe runs its work on worker threads of
     // its own on the same cores, and a CPU team measured next to them pays for it.
     let mut rows = Vec::new();
+    let mut scenes = Vec::with_capacity(plan.cases.len());
     for (c, case) in plan.cases.iter().enumerate() {
         bar.set_message(format!("building {}", case.label));
         let scene = scene::build(case.scene, &case.opts)?;
@@ -60,6 +61,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
             rows.push((c, b, measure::cpu_row(case, scene.clone(), backend, &plan.budget)?));
             bar.inc(1);
         }
+        scenes.push(scene);
     }
 
     let mut splits = Vec::new();
@@ -78,17 +80,15 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
             Ok(g) => Some(g),
             Err(e) => {
                 eprintln!("GPU path not measured: {e}");
-                bar.set_length(total.saturating_sub(plan.rows(true) - plan.rows(false)) as u64);
+                bar.set_length(total(false));
                 None
             }
         }
     };
     let gpu_name = gpu.as_ref().map_or("none".to_string(), Gpu::describe);
     if let Some(g) = &gpu {
-        for (c, case) in plan.cases.iter().enumerate() {
+        for (c, (case, scene)) in plan.cases.iter().zip(scenes).enumerate() {
             let Some(b) = case.backends.iter().position(|b| *b == Backend::Gpu) else { continue };
-            bar.set_message(format!("building {}", case.label));
-            let scene = scene::build(case.scene, &case.opts)?;
             bar.set_message(format!("{} ({} constraints) on gpu", case.label, scene.num_constraints()));
             rows.push((c, b, g.row(case, scene, &plan.budget)?));
             bar.inc(1);
