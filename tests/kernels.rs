@@ -238,3 +238,26 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
         }
     }
 }
+
+#[test]
+fn a_family_with_overlapping_groups_runs_whole_on_the_team() {
+    // The bending family gathered into one group (its elements share particles): the team runs
+    // it on one thread between barriers, and splits the springs around it.
+    let opts = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
+    let mut scene = scene::build("cloth-sphere", &opts).unwrap();
+    let bends = scene.bends.as_mut().expect("bending");
+    bends.colors = vec![0..bends.elements.len() as u32];
+    assert!(!bends.groups_disjoint(scene.positions.len()));
+    let settings = Settings { iterations: 3, substeps: 2, ..Settings::default() };
+    let run = |threads| {
+        let mut s = CpuSolver::<Vec3A>::new(scene.clone());
+        let settings = Settings { threads, ..settings };
+        for _ in 0..20 {
+            s.step_frame(&settings);
+        }
+        s.particles.x
+    };
+    let one = run(1);
+    assert_eq!(one, run(2), "two threads");
+    assert_eq!(one, run(3), "three threads");
+}

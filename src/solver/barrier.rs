@@ -88,6 +88,76 @@ impl SpinBarrier {
     }
 }
 
+/// Each thread's count of finished steps, for threads that order only some of their work (the
+/// team's boundary parts, `cpu/plan.rs`): thread `t` publishes `n` once it has finished its
+/// boundary parts of steps `0..n`, and waits, before the boundary part of step `s`, until every
+/// other thread has published `s`. A publication is a release store and a wait's check an acquire
+/// load, so what a thread wrote before publishing is visible to a thread that waited for it, and
+/// what a thread read before publishing was read before the waiter writes.
+#[derive(Debug)]
+pub(crate) struct Progress {
+    done: Vec<Padded>,
+}
+
+impl Clone for Progress {
+    /// Fresh counters for as many threads (a copied solver runs its frames on its own).
+    fn clone(&self) -> Self {
+        Progress::new(self.done.len())
+    }
+}
+
+/// A counter on a cache line of its own, so one thread's publications do not slow another's.
+#[derive(Debug, Default)]
+#[repr(align(128))]
+struct Padded(AtomicUsize);
+
+impl Progress {
+    /// Counters for `threads` threads, at zero.
+    pub fn new(threads: usize) -> Self {
+        Progress { done: (0..threads).map(|_| Padded::default()).collect() }
+    }
+
+    /// Every counter back to zero (before a frame, while no thread uses them).
+    pub fn reset(&mut self) {
+        for d in &mut self.done {
+            *d.0.get_mut() = 0;
+        }
+    }
+
+    /// Thread `t` has finished the boundary parts of steps `0..n`.
+    #[inline]
+    pub fn publish(&self, t: usize, n: usize) {
+        self.done[t].0.store(n, Ordering::Release);
+    }
+
+    /// Blocks thread `t` until every other thread has published at least `n`: spins, then, past
+    /// [`SPIN_TIME`], sleeps in short naps. Returns `true` when it slept.
+    #[inline]
+    pub fn wait(&self, t: usize, n: usize) -> bool {
+        let mut slept = false;
+        for (u, d) in self.done.iter().enumerate() {
+            if u == t || d.0.load(Ordering::Acquire) >= n {
+                continue;
+            }
+            let start = Instant::now();
+            let mut spins = 0u32;
+            while d.0.load(Ordering::Acquire) < n {
+                spins = spins.wrapping_add(1);
+                if slept || (spins.is_multiple_of(64) && start.elapsed() > SPIN_TIME) {
+                    slept = true;
+                    std::thread::sleep(NAP);
+                } else {
+                    std::hint::spin_loop();
+                }
+            }
+        }
+        slept
+    }
+}
+
+/// A sleeping [`Progress::wait`]'s nap between checks.
+const NAP: Duration = Duration::from_micros(50);
+
 /// Thread `t`'s share of `range` when `threads` threads split it: consecutive chunks of a multiple
 /// of `align` items (the SIMD width for elements: whole SIMD batches), the last one shorter,
 /// possibly empty.
@@ -133,6 +203,32 @@ mod tests {
             }
         });
         assert_eq!(barrier.slept(), 2, "the two early threads spin, then sleep until the late one arrives");
+    }
+
+    #[test]
+    fn progress_orders_the_steps_of_two_threads() {
+        // Each thread appends to a log in steps; a step may start only once the other thread has
+        // finished the one before, so the log's entries never run more than one step apart.
+        let progress = Progress::new(2);
+        let log = Mutex::new(Vec::new());
+        std::thread::scope(|s| {
+            for t in 0..2 {
+                let (progress, log) = (&progress, &log);
+                s.spawn(move || {
+                    for step in 0..500 {
+                        progress.wait(t, step);
+                        log.lock().expect("log").push(step);
+                        progress.publish(t, step + 1);
+                    }
+                });
+            }
+        });
+        let log = log.into_inner().expect("log");
+        assert_eq!(log.len(), 1000);
+        for (k, &step) in log.iter().enumerate() {
+            // A thread logs step s only after both threads logged steps 0..s: at least 2s entries.
+            assert!(2 * step <= k, "entry {k} is step {step}: a thread ran ahead");
+        }
     }
 
     #[test]

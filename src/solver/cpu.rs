@@ -18,6 +18,7 @@ use super::particles;
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
 
+mod plan;
 mod team;
 
 /// The machine's cores (asked once: the query allocates). A team waits at barriers for a thread
@@ -90,8 +91,8 @@ pub struct CpuSolver<V: Vector> {
     choice: team::Choice,
     /// Some family has a group the team may split ([`team::splittable`]), fixed by the scene.
     splittable: bool,
-    /// Color groups of all families in one sweep.
-    groups: usize,
+    /// The team's shares and boundary parts for the pool's thread count (built on first use).
+    plan: Option<plan::Plan>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -117,7 +118,7 @@ impl<V: Vector> CpuSolver<V> {
             pool: None,
             choice: team::Choice::default(),
             splittable,
-            groups: scene.num_color_groups(),
+            plan: None,
             scene,
         }
     }

@@ -6,8 +6,10 @@
 //! [`crate::coloring::Coloring::validate`]), so the threads that split a group read and write
 //! disjoint sets of particle indices; each thread takes a disjoint range of the group's elements
 //! ([`super::barrier::share`]) and so of their multipliers, and of the particles in the
-//! per-particle passes; and no thread touches another's share until every thread has passed the
-//! next barrier ([`super::barrier::SpinBarrier`]). An array is read whole only in a phase in which
+//! per-particle passes; and a particle that two threads touch in different steps is touched by
+//! the later one only after the earlier one has published that step
+//! ([`super::barrier::Progress`], the team's plan in `cpu/plan.rs`) or after both have passed a
+//! barrier ([`super::barrier::SpinBarrier`]). An array is read whole only in a phase in which
 //! no thread writes it (the substep-start positions during the sweeps).
 #![allow(unsafe_code)]
 

@@ -1,10 +1,16 @@
 //! The frame on several threads: every thread of the solver's pool runs the whole substep loop as
 //! one team. Each takes its share of the particles in the per-particle passes and of each large
-//! color group in the sweeps, and the team meets at a spin barrier after each group and pass, so
-//! one frame costs one wake-up of the pool instead of a fork and join per group. The elements of
-//! a group share no particle and the passes touch each particle alone, so the positions come out
-//! the same, bit for bit, for any thread count.
+//! color group in the sweeps, so one frame costs one wake-up of the pool instead of a fork and
+//! join per group. The team meets at a spin barrier around the per-substep passes (predict,
+//! finish); within a substep's iterations a thread waits for the others only before the part of
+//! its share that touches particles another thread touches too ([`Plan`]), so a thread that is
+//! ahead goes on with the rest of its share instead of waiting at every group. The elements of a
+//! group share no particle, the passes touch each particle alone, and two elements that share a
+//! particle are visited in the order of their groups, so the positions come out the same, bit for
+//! bit, for any thread count.
 
+use std::cell::Cell;
+use std::ops::Range;
 use std::time::Duration;
 
 use crate::math::prelude::*;
@@ -13,12 +19,13 @@ use crate::scene::{FAMILY_COUNT, Family, Scene};
 use super::super::barrier::{SpinBarrier, share};
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
-use super::super::particles::{self, WORK_BLOCK};
+use super::super::particles;
 use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
+use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{CpuSolver, FamilyState, plain_chunk, update};
-use crate::constraints::{Element, SIMD_WIDTH};
+use crate::constraints::Element;
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
 /// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster.
@@ -45,6 +52,9 @@ struct Member<'a> {
     t: usize,
     threads: usize,
     barrier: &'a SpinBarrier,
+    plan: &'a Plan,
+    /// This thread's waits for the others' steps that ended in sleep.
+    slept: Cell<usize>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -60,14 +70,19 @@ impl<V: Vector> CpuSolver<V> {
     }
 
     /// The frame's substeps on every thread of the current pool (see the module documentation);
-    /// returns `true` when the threads slept at many barriers (the cores may be busy).
+    /// returns `true` when the threads slept at many waits (the cores may be busy).
     pub(super) fn team_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) -> bool {
         let threads = rayon::current_num_threads();
+        if self.plan.as_ref().is_none_or(|p| p.threads != threads) {
+            let disjoint = self.fam.each_ref().map(|st| st.disjoint);
+            self.plan = Some(Plan::new(&self.scene, &disjoint, threads));
+        }
+        let Some(plan) = self.plan.as_mut() else { return false };
+        plan.progress.reset();
+        let plan = &*plan;
         let barrier = SpinBarrier::new(threads);
         let n = self.particles.len();
-        let blocks = self.work_blocks.len();
         let scene = &self.scene;
-        let disjoint = self.fam.each_ref().map(|st| st.disjoint);
         let p = &mut self.particles;
         let w = &p.w[..];
         let views = Views {
@@ -82,11 +97,11 @@ impl<V: Vector> CpuSolver<V> {
         // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
         let plain = k.plain();
         let totals = rayon::broadcast(|ctx| {
-            let me = Member { t: ctx.index(), threads, barrier: &barrier };
+            let me = Member { t: ctx.index(), threads, barrier: &barrier, plan, slept: Cell::new(0) };
             let mut v = views;
-            let my_blocks = share(0..blocks, me.t, threads, 1);
-            let mine = (my_blocks.start * WORK_BLOCK).min(n)..(my_blocks.end * WORK_BLOCK).min(n);
+            let (mine, my_blocks) = particle_share(n, me.t, threads);
             let mut dissipated = dissipated;
+            let mut step = 0;
             for _ in 0..s.substeps {
                 let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
                 particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
@@ -97,18 +112,18 @@ impl<V: Vector> CpuSolver<V> {
                 barrier.wait();
                 for _ in 0..s.iterations {
                     crate::for_each_family!(scene, |i, f| {
-                        let mut lambda = v.lambda[i];
                         let x_prev = v.x_prev.read_all();
-                        team_sweep(f, &mut lambda, &mut v.x, x_prev, w, k, &me, (disjoint[i], plain))
+                        let family = &plan.families[i];
+                        team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, plain)
                     });
-                    project_range(
-                        scene,
-                        v.x.range_mut(mine.clone()),
-                        &v.x_prev.read_all()[mine.clone()],
-                        &w[mine.clone()],
-                    );
-                    barrier.wait();
+                    if let Some(parts) = &plan.contacts {
+                        let x_prev = v.x_prev.read_all();
+                        me.step(&parts[me.t], &mut step, |r| {
+                            project_range(scene, v.x.range_mut(r.clone()), &x_prev[r.clone()], &w[r])
+                        });
+                    }
                 }
+                barrier.wait();
                 let x_prev = &v.x_prev.read_all()[mine.clone()];
                 let (x, vel) = (v.x.range_mut(mine.clone()), v.v.range_mut(mine.clone()));
                 particles::finish(
@@ -127,62 +142,84 @@ impl<V: Vector> CpuSolver<V> {
                     dissipated += v.work.read_all().iter().sum::<f64>();
                 }
             }
-            dissipated
+            (dissipated, me.slept.get())
         });
-        self.ledger.dissipated = totals[0];
-        let barriers = s.substeps as usize * (2 + s.iterations as usize * (1 + self.groups));
-        barrier.slept() * BUSY_FRACTION > barriers
+        self.ledger.dissipated = totals[0].0;
+        let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
+        let waits = threads * s.substeps as usize * (3 + s.iterations as usize * (plan.steps + 2 * whole));
+        let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
+        slept * BUSY_FRACTION > waits
     }
 }
 
-/// One Gauss-Seidel sweep of family `f` by the team: each thread takes its share of every group
-/// of at least [`PARALLEL_MIN_GROUP`] elements and thread 0 the smaller groups whole, with a
-/// barrier after each group. A family whose groups were not checked disjoint runs whole on
-/// thread 0. `plain`: the lean kernels ([`plain_chunk`]), else the general update of every
-/// element.
+impl Member<'_> {
+    /// This thread's part of step `*step` (`run` over each of its ranges): the boundary part once
+    /// the other threads have finished theirs of the steps before, then the rest.
+    #[inline]
+    fn step(&self, part: &Part, step: &mut usize, mut run: impl FnMut(Range<usize>)) {
+        let progress = &self.plan.progress;
+        if !part.boundary.is_empty() {
+            if progress.wait(self.t, *step) {
+                self.slept.set(self.slept.get() + 1);
+            }
+            run(part.boundary.clone());
+        }
+        progress.publish(self.t, *step + 1);
+        for r in part.interior() {
+            if !r.is_empty() {
+                run(r);
+            }
+        }
+        *step += 1;
+    }
+}
+
+/// One Gauss-Seidel sweep of family `f` by the team, one step per color group ([`Plan`]). A
+/// family whose groups were not checked disjoint runs whole on thread 0 between two barriers.
+/// `plain`: the lean kernels ([`plain_chunk`]), else the general update of every element.
 fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
-    lambda: &mut SharedPositions<'_, V::S>,
+    mut lambda: SharedPositions<'_, V::S>,
     x: &mut SharedPositions<'_, V>,
     x_prev: &[V],
     w: &[V::S],
     k: &StepConstants<V::S>,
     me: &Member<'_>,
-    (disjoint, plain): (bool, bool),
+    family: &FamilyPlan,
+    step: &mut usize,
+    plain: bool,
 ) {
-    let chunk = |es: &[E], ls: &mut [V::S], x: &mut SharedPositions<'_, V>| match plain {
-        true => plain_chunk(es, ls, &f.params, x, x_prev, w, k),
-        false => {
-            for (e, l) in es.iter().zip(ls) {
-                update(e, &f.params, l, x, x_prev, w, k, |c_val, _| c_val);
+    let mut chunk = |r: Range<usize>, x: &mut SharedPositions<'_, V>| {
+        let (es, ls) = (&f.elements[r.clone()], lambda.range_mut(r));
+        match plain {
+            true => plain_chunk(es, ls, &f.params, x, x_prev, w, k),
+            false => {
+                for (e, l) in es.iter().zip(ls) {
+                    update(e, &f.params, l, x, x_prev, w, k, |c_val, _| c_val);
+                }
             }
         }
     };
-    if !disjoint {
-        if me.t == 0 {
-            for range in &f.colors {
-                let group = range.start as usize..range.end as usize;
-                chunk(&f.elements[group.clone()], lambda.range_mut(group), x);
+    match family {
+        FamilyPlan::Absent => {}
+        FamilyPlan::Whole => {
+            me.barrier.wait();
+            if me.t == 0 {
+                for range in &f.colors {
+                    chunk(range.start as usize..range.end as usize, x);
+                }
+            }
+            me.barrier.wait();
+        }
+        FamilyPlan::Split(parts) => {
+            for g in 0..f.colors.len() {
+                me.step(&parts[g * me.threads + me.t], step, |r| chunk(r, x));
             }
         }
-        me.barrier.wait();
-        return;
-    }
-    for range in &f.colors {
-        let group = range.start as usize..range.end as usize;
-        let mine = match group.len() >= PARALLEL_MIN_GROUP {
-            true => share(group, me.t, me.threads, SIMD_WIDTH),
-            false if me.t == 0 => group,
-            false => 0..0,
-        };
-        if !mine.is_empty() {
-            chunk(&f.elements[mine.clone()], lambda.range_mut(mine), x);
-        }
-        me.barrier.wait();
     }
 }
 
-/// A team frame in which more than one barrier wait in this many ended in sleep is suspect: its
+/// A team frame in which more than one wait in this many ended in sleep is suspect: its
 /// threads may have waited for one another because the cores run other work too (another
 /// process, another solver), or only because its groups are long (a wait past the spin sleeps).
 const BUSY_FRACTION: usize = 8;
