@@ -207,8 +207,10 @@ fn padded_and_packed_positions_give_the_same_bits() {
 fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
     // Substeps, contacts against the sphere and damping exercise every pass the team splits; the
     // refined bunny surface has elements that spread over the particle arrays; the energy form
-    // and constraint damping take the general update instead of the lean kernels.
+    // and constraint damping take the general update instead of the lean kernels; the global
+    // energy balance scales the velocities after every substep.
     use eapbd::constraints::Form;
+    use eapbd::solver::EnergyAware;
     let cloth = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
     let base = Settings { iterations: 3, substeps: 4, damping: 0.5, ..Settings::default() };
     let cases = [
@@ -216,6 +218,7 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
         ("bunny-paper", SceneOptions::default(), base),
         ("cloth-sphere", cloth, Settings { form: Form::Energy, ..base }),
         ("cloth-sphere", cloth, Settings { constraint_damping: 1e-3, ..base }),
+        ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Global, ..base }),
     ];
     for (name, opts, settings) in cases {
         let run = |threads| {
@@ -224,17 +227,23 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
             for _ in 0..30 {
                 s.step_frame(&settings);
             }
-            (s.particles.x, s.particles.v, s.ledger.dissipated)
+            (s.particles.x, s.particles.v, s.ledger.dissipated, s.ledger)
         };
         let one = run(1);
         assert!(one.2 < 0.0, "{name}: damping and contacts dissipate ({})", one.2);
+        if settings.energy_aware == EnergyAware::Global {
+            assert!(one.3.carried.is_some() && one.3.last_scale != 1.0, "{name}: the balance scaled velocities");
+        }
         for threads in [2, 3] {
             let many = run(threads);
-            let what =
-                format!("{name}, {:?} form, β {}, {threads} threads", settings.form, settings.constraint_damping);
+            let what = format!(
+                "{name}, {:?} form, β {}, {:?}, {threads} threads",
+                settings.form, settings.constraint_damping, settings.energy_aware
+            );
             assert_eq!(one.0, many.0, "{what}: positions");
             assert_eq!(one.1, many.1, "{what}: velocities");
             assert_eq!(one.2.to_bits(), many.2.to_bits(), "{what}: dissipated work");
+            assert_eq!(one.3, many.3, "{what}: energy ledger");
         }
     }
 }
@@ -246,7 +255,7 @@ fn a_family_with_overlapping_groups_runs_whole_on_the_team() {
     let opts = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
     let mut scene = scene::build("cloth-sphere", &opts).unwrap();
     let bends = scene.bends.as_mut().expect("bending");
-    bends.colors = vec![0..bends.elements.len() as u32];
+    bends.colors = std::iter::once(0..bends.elements.len() as u32).collect();
     assert!(!bends.groups_disjoint(scene.positions.len()));
     let settings = Settings { iterations: 3, substeps: 2, ..Settings::default() };
     let run = |threads| {

@@ -163,8 +163,9 @@ pub struct SceneArgs {
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub sor: f32,
     /// CPU threads that split the color groups and particle passes of Gauss-Seidel with
-    /// energy-aware off (0 = every core, 1 = single-threaded, at most one per core; small groups, Jacobi and the
-    /// energy-aware modes run on one thread, and the result does not depend on the count).
+    /// energy-aware off or global (0 = every core, 1 = single-threaded, at most one per core; small
+    /// groups, Jacobi and the local energy-aware mode run on one thread, and the result does not
+    /// depend on the count).
     #[arg(long, default_value_t = 0)]
     pub threads: u32,
     /// Switch gravity off.

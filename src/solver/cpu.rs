@@ -199,14 +199,13 @@ impl<V: Vector> CpuSolver<V> {
     /// Kinetic + gravitational + elastic energy of the current state (J).
     pub fn total_energy(&self) -> f64 {
         let p = &self.particles;
-        metrics::kinetic(&p.v, &p.w) + self.potential_energy()
+        total_energy(&self.scene, self.rest_com, &p.x, &p.v, &p.w)
     }
 
     /// Gravitational (from the rest centre of mass) + elastic energy (J).
     pub fn potential_energy(&self) -> f64 {
         let p = &self.particles;
-        metrics::gravitational_about(self.scene.gravity, self.rest_com, &p.x, &p.w)
-            + metrics::elastic_energy(&self.scene, &p.x)
+        potential_energy(&self.scene, self.rest_com, &p.x, &p.w)
     }
 
     fn substep(&mut self, s: &Settings, k: &StepConstants<V::S>) {
@@ -248,22 +247,11 @@ impl<V: Vector> CpuSolver<V> {
         }
     }
 
-    /// The global balance: scales free velocities by `σ` and carries `H₀` to the next substep.
+    /// The global balance ([`balance`]) on the solver's particles.
     fn balance(&mut self, h0: f64, work: f64) {
         let p = &mut self.particles;
-        let k1 = metrics::kinetic(&p.v, &p.w);
-        let p1 = self.potential_energy();
-        let sigma = global_scale(h0, work, k1, p1);
-        if sigma != 1.0 {
-            let sv = V::S::from_f64(sigma);
-            let p = &mut self.particles;
-            for i in 0..p.len() {
-                if p.w[i] > V::S::zero() {
-                    p.v[i] = p.v[i] * sv;
-                }
-            }
-        }
-        self.ledger.carried = Some(sigma * sigma * k1 + p1);
+        let (sigma, carried) = balance(&self.scene, self.rest_com, &p.x, &mut p.v, &p.w, h0, work);
+        self.ledger.carried = Some(carried);
         self.ledger.last_scale = sigma;
     }
 
@@ -338,6 +326,42 @@ impl<V: Vector> CpuSolver<V> {
     pub fn last_constants(&self) -> Option<&StepConstants<V::S>> {
         self.last.as_ref()
     }
+}
+
+/// Kinetic + gravitational + elastic energy of the state `x`, `v` (J).
+fn total_energy<V: Vector>(scene: &Scene, rest_com: Vec3, x: &[V], v: &[V], w: &[V::S]) -> f64 {
+    metrics::kinetic(v, w) + potential_energy(scene, rest_com, x, w)
+}
+
+/// Gravitational (heights from the rest centre of mass `rest_com`) + elastic energy at `x` (J).
+fn potential_energy<V: Vector>(scene: &Scene, rest_com: Vec3, x: &[V], w: &[V::S]) -> f64 {
+    metrics::gravitational_about(scene.gravity, rest_com, x, w) + metrics::elastic_energy(scene, x)
+}
+
+/// The global balance (SPEC §4) after a substep that dissipated `work` (J) from a state of energy
+/// `h0` (J): scales the free particles' velocities by `σ` ([`global_scale`]); returns `σ` and the
+/// energy `H₀ = σ² K₁ + P₁` carried to the next substep.
+fn balance<V: Vector>(
+    scene: &Scene,
+    rest_com: Vec3,
+    x: &[V],
+    v: &mut [V],
+    w: &[V::S],
+    h0: f64,
+    work: f64,
+) -> (f64, f64) {
+    let k1 = metrics::kinetic(v, w);
+    let p1 = potential_energy(scene, rest_com, x, w);
+    let sigma = global_scale(h0, work, k1, p1);
+    if sigma != 1.0 {
+        let sv = V::S::from_f64(sigma);
+        for (v, &w) in v.iter_mut().zip(w) {
+            if w > V::S::zero() {
+                *v = *v * sv;
+            }
+        }
+    }
+    (sigma, sigma * sigma * k1 + p1)
 }
 
 fn local_ctx<'a, V: Vector>(l: &'a LocalState<V>, energy_start: &'a [V::S]) -> LocalCtx<'a, V> {

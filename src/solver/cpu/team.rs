@@ -24,7 +24,7 @@ use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
-use super::{CpuSolver, FamilyState, plain_chunk, update};
+use super::{CpuSolver, FamilyState, balance, plain_chunk, total_energy, update};
 use crate::constraints::Element;
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
@@ -58,12 +58,12 @@ struct Member<'a> {
 }
 
 impl<V: Vector> CpuSolver<V> {
-    /// `true` when `s` runs on the team: Gauss-Seidel with energy-aware off (either form, with or
-    /// without constraint damping) on a pool of more than one thread, with groups large enough to
-    /// split.
+    /// `true` when `s` runs on the team: Gauss-Seidel with energy-aware off or global (either
+    /// form, with or without constraint damping) on a pool of more than one thread, with groups
+    /// large enough to split.
     pub(super) fn team_applies(&self, s: &Settings) -> bool {
         s.method == Method::GaussSeidel
-            && s.energy_aware == EnergyAware::Off
+            && s.energy_aware != EnergyAware::Local
             && rayon::current_thread_index().is_some()
             && rayon::current_num_threads() > 1
             && self.splittable
@@ -93,16 +93,27 @@ impl<V: Vector> CpuSolver<V> {
             lambda: self.fam.each_mut().map(|st| SharedPositions::new(&mut st.lambda[..])),
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
-        let dissipated = self.ledger.dissipated;
+        // Thread 0's ledger; with the global balance it also computes the energies, alone.
+        let ledger = self.ledger;
+        let global = s.energy_aware == EnergyAware::Global;
+        let rest_com = self.rest_com;
         // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
         let plain = k.plain();
         let totals = rayon::broadcast(|ctx| {
             let me = Member { t: ctx.index(), threads, barrier: &barrier, plan, slept: Cell::new(0) };
             let mut v = views;
             let (mine, my_blocks) = particle_share(n, me.t, threads);
-            let mut dissipated = dissipated;
+            let mut ledger = ledger;
             let mut step = 0;
-            for _ in 0..s.substeps {
+            for substep in 0..s.substeps {
+                // The balance's starting energy: carried from the last substep, else measured.
+                let mut h0 = ledger.carried;
+                if global && substep == 0 && h0.is_none() {
+                    if me.t == 0 {
+                        h0 = Some(total_energy(scene, rest_com, v.x.read_all(), v.v.read_all(), w));
+                    }
+                    barrier.wait();
+                }
                 let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
                 particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
                 for l in &mut v.lambda {
@@ -137,16 +148,27 @@ impl<V: Vector> CpuSolver<V> {
                 );
                 barrier.wait();
                 // Thread 0 adds the blocks in order before the next substep's first barrier, and
-                // no thread writes them again before its next finish pass.
+                // no thread writes them again before its next finish pass; with the global
+                // balance it scales the velocities while the others wait.
                 if me.t == 0 {
-                    dissipated += v.work.read_all().iter().sum::<f64>();
+                    let work = v.work.read_all().iter().sum::<f64>();
+                    ledger.dissipated += work;
+                    if let Some(h0) = h0.filter(|_| global) {
+                        let (x, vel) = (v.x.read_all(), v.v.range_mut(0..n));
+                        let (sigma, carried) = balance(scene, rest_com, x, vel, w, h0, work);
+                        (ledger.carried, ledger.last_scale) = (Some(carried), sigma);
+                    }
+                }
+                if global {
+                    barrier.wait();
                 }
             }
-            (dissipated, me.slept.get())
+            (ledger, me.slept.get())
         });
-        self.ledger.dissipated = totals[0].0;
+        self.ledger = totals[0].0;
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
-        let waits = threads * s.substeps as usize * (3 + s.iterations as usize * (plan.steps + 2 * whole));
+        let waits =
+            threads * s.substeps as usize * (3 + global as usize + s.iterations as usize * (plan.steps + 2 * whole));
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
     }
