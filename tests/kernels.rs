@@ -208,7 +208,8 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
     // Substeps, contacts against the sphere and damping exercise every pass the team splits; the
     // refined bunny surface has elements that spread over the particle arrays; the energy form
     // and constraint damping take the general update instead of the lean kernels; the global
-    // energy balance scales the velocities after every substep.
+    // energy balance scales the velocities after every substep; the local mode reads its
+    // snapshots and start energies in every projection.
     use eapbd::constraints::Form;
     use eapbd::solver::EnergyAware;
     let cloth = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
@@ -219,6 +220,8 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
         ("cloth-sphere", cloth, Settings { form: Form::Energy, ..base }),
         ("cloth-sphere", cloth, Settings { constraint_damping: 1e-3, ..base }),
         ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Global, ..base }),
+        ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Local, ..base }),
+        ("bunny-paper", SceneOptions::default(), Settings { energy_aware: EnergyAware::Local, ..base }),
     ];
     for (name, opts, settings) in cases {
         let run = |threads| {

@@ -262,7 +262,9 @@ impl<V: Vector> CpuSolver<V> {
         l.current.copy_from_slice(&self.particles.x);
         let x_prev = &self.particles.x_prev;
         crate::for_each_family!(self.scene, |i, f| {
-            self.fam[i].energy_start = start_energies(f, x_prev, k.form, k.energy_compliance)
+            let out = &mut self.fam[i].energy_start;
+            out.resize(f.len(), V::S::zero());
+            start_energies(f, x_prev, (k.form, k.energy_compliance), 0..f.len(), out)
         });
     }
 
@@ -368,21 +370,20 @@ fn local_ctx<'a, V: Vector>(l: &'a LocalState<V>, energy_start: &'a [V::S]) -> L
     LocalCtx { current: &l.current, previous: &l.previous, energy_start }
 }
 
-/// Material energy of each element at `x` (the local mode's `E_j(x_start)`), computed the way
-/// the projection sees it: `C` in the energy form, `C²/(2α)` in the compliant form.
+/// Material energy of the elements of `f` in `out`'s range (`out[j]` for element `range.start +
+/// j`) at `x` (the local mode's `E_j(x_start)`), computed the way the projection sees it: `C` in
+/// the energy form, `C²/(2α)` in the compliant form.
 fn start_energies<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     x: &[V],
-    form: Form,
-    energy_compliance: V::S,
-) -> Vec<V::S> {
-    f.elements
-        .iter()
-        .map(|e| {
-            let p = e.constraint(&f.params, &gather(x, e.particles()), form, energy_compliance);
-            projected_energy(p.c, p.alpha, form)
-        })
-        .collect()
+    (form, energy_compliance): (Form, V::S),
+    range: std::ops::Range<usize>,
+    out: &mut [V::S],
+) {
+    for (e, o) in f.elements[range].iter().zip(out) {
+        let p = e.constraint(&f.params, &gather(x, e.particles()), form, energy_compliance);
+        *o = projected_energy(p.c, p.alpha, form);
+    }
 }
 
 /// The material energy of a constraint from its projection: `C` (energy form) or `C²/(2α)`.
@@ -468,7 +469,7 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
 ) {
     let one = |e: &E, l: &mut V::S, x: &mut P| {
         if !e.project_plain(params, x, w, l, k.inv_h2, k.sor) {
-            update(e, params, l, x, x_prev, w, k, |c_val, _| c_val);
+            update(e, params, l, x, x_prev, w, k, |_, _, c_val, _| c_val);
         }
     };
     let mut j = 0;
@@ -489,7 +490,8 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
     }
 }
 
-/// The general update of one element: gather, project, write back.
+/// The general update of one element: gather, project, write back. `adjust(positions, inverse
+/// masses, C, α)` gives the constraint value to project.
 #[inline(always)]
 fn update<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
     e: &E,
@@ -499,12 +501,13 @@ fn update<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
     x_prev: &[V],
     w: &[V::S],
     k: &StepConstants<V::S>,
-    adjust: impl FnOnce(V::S, V::S) -> V::S,
+    adjust: impl FnOnce(&[V; N], &[V::S; N], V::S, V::S) -> V::S,
 ) {
     let idx = e.particles();
     let xs = idx.map(|i| x.get(i as usize));
     let ws = idx.map(|i| w[i as usize]);
-    if let Some((grad, d)) = solve_element(e, params, &xs, &ws, x_prev, *l, k, adjust) {
+    let adj = |c_val, alpha| adjust(&xs, &ws, c_val, alpha);
+    if let Some((grad, d)) = solve_element(e, params, &xs, &ws, x_prev, *l, k, adj) {
         *l += d;
         for n in 0..N {
             x.set(idx[n] as usize, xs[n] + grad[n] * (ws[n] * d));
@@ -526,16 +529,8 @@ fn sweep<E: Element<N>, V: Vector, const N: usize>(
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
         for (j, (e, l)) in f.elements[lo..hi].iter().zip(&mut lambda[lo..hi]).enumerate() {
-            let idx = e.particles();
-            let xs = gather(&p.x, idx);
-            let ws = idx.map(|i| p.w[i as usize]);
-            let adj = |c_val, alpha| adjust(lo + j, idx, &xs, &ws, c_val, alpha);
-            if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, *l, k, adj) {
-                *l += d;
-                for n in 0..N {
-                    p.x[idx[n] as usize] = xs[n] + grad[n] * (ws[n] * d);
-                }
-            }
+            let adj = |xs: &[V; N], ws: &[V::S; N], c_val, alpha| adjust(lo + j, e.particles(), xs, ws, c_val, alpha);
+            update(e, &f.params, l, &mut p.x[..], &p.x_prev, &p.w, k, adj);
         }
     }
 }

@@ -24,7 +24,9 @@ use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
-use super::{CpuSolver, FamilyState, balance, plain_chunk, total_energy, update};
+use super::{
+    CpuSolver, FamilyState, LocalCtx, balance, local_adjusted, plain_chunk, start_energies, total_energy, update,
+};
 use crate::constraints::Element;
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
@@ -45,6 +47,9 @@ struct Views<'a, V: Vector> {
     v: SharedPositions<'a, V>,
     work: SharedPositions<'a, f64>,
     lambda: [SharedPositions<'a, V::S>; FAMILY_COUNT],
+    /// The local mode's snapshots (current, previous) and start energies per family.
+    local: Option<[SharedPositions<'a, V>; 2]>,
+    energy_start: [SharedPositions<'a, V::S>; FAMILY_COUNT],
 }
 
 /// What one thread of the team is.
@@ -58,12 +63,11 @@ struct Member<'a> {
 }
 
 impl<V: Vector> CpuSolver<V> {
-    /// `true` when `s` runs on the team: Gauss-Seidel with energy-aware off or global (either
-    /// form, with or without constraint damping) on a pool of more than one thread, with groups
-    /// large enough to split.
+    /// `true` when `s` runs on the team: Gauss-Seidel (either form, with or without constraint
+    /// damping, in every energy-aware mode) on a pool of more than one thread, with groups large
+    /// enough to split.
     pub(super) fn team_applies(&self, s: &Settings) -> bool {
         s.method == Method::GaussSeidel
-            && s.energy_aware != EnergyAware::Local
             && rayon::current_thread_index().is_some()
             && rayon::current_num_threads() > 1
             && self.splittable
@@ -83,14 +87,28 @@ impl<V: Vector> CpuSolver<V> {
         let barrier = SpinBarrier::new(threads);
         let n = self.particles.len();
         let scene = &self.scene;
+        let local = s.energy_aware == EnergyAware::Local;
+        if local {
+            crate::for_each_family!(scene, |i, f| self.fam[i].energy_start.resize(f.len(), V::S::zero()));
+        }
         let p = &mut self.particles;
         let w = &p.w[..];
+        let fam = self
+            .fam
+            .each_mut()
+            .map(|st| (SharedPositions::new(&mut st.lambda[..]), SharedPositions::new(&mut st.energy_start[..])));
         let views = Views {
             x: SharedPositions::new(&mut p.x),
             x_prev: SharedPositions::new(&mut p.x_prev),
             v: SharedPositions::new(&mut p.v),
             work: SharedPositions::new(&mut self.work_blocks),
-            lambda: self.fam.each_mut().map(|st| SharedPositions::new(&mut st.lambda[..])),
+            lambda: fam.map(|f| f.0),
+            local: self
+                .local
+                .as_mut()
+                .filter(|_| local)
+                .map(|l| [SharedPositions::new(&mut l.current), SharedPositions::new(&mut l.previous)]),
+            energy_start: fam.map(|f| f.1),
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         // Thread 0's ledger; with the global balance it also computes the energies, alone.
@@ -121,11 +139,36 @@ impl<V: Vector> CpuSolver<V> {
                     l.range_mut(r).fill(V::S::zero());
                 }
                 barrier.wait();
-                for _ in 0..s.iterations {
+                if let Some([current, previous]) = &mut v.local {
+                    // The local mode's snapshots and start energies, each thread its share.
+                    previous.range_mut(mine.clone()).copy_from_slice(&v.x_prev.read_all()[mine.clone()]);
+                    current.range_mut(mine.clone()).copy_from_slice(&v.x.read_all()[mine.clone()]);
+                    crate::for_each_family!(scene, |i, f| {
+                        let r = share(0..f.len(), me.t, threads, 1);
+                        let out = v.energy_start[i].range_mut(r.clone());
+                        start_energies(f, v.x_prev.read_all(), (k.form, k.energy_compliance), r, out)
+                    });
+                    barrier.wait();
+                }
+                for iteration in 0..s.iterations {
+                    if let Some([current, previous]) = &mut v.local
+                        && iteration > 0
+                    {
+                        barrier.wait();
+                        std::mem::swap(current, previous);
+                        current.range_mut(mine.clone()).copy_from_slice(&v.x.read_all()[mine.clone()]);
+                        barrier.wait();
+                    }
                     crate::for_each_family!(scene, |i, f| {
                         let x_prev = v.x_prev.read_all();
                         let family = &plan.families[i];
-                        team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, plain)
+                        let ctx = v.local.as_ref().map(|[current, previous]| LocalCtx {
+                            current: current.read_all(),
+                            previous: previous.read_all(),
+                            energy_start: v.energy_start[i].read_all(),
+                        });
+                        let how = Sweep { plain, local: ctx };
+                        team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
                     if let Some(parts) = &plan.contacts {
                         let x_prev = v.x_prev.read_all();
@@ -167,8 +210,8 @@ impl<V: Vector> CpuSolver<V> {
         });
         self.ledger = totals[0].0;
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
-        let waits =
-            threads * s.substeps as usize * (3 + global as usize + s.iterations as usize * (plan.steps + 2 * whole));
+        let per_substep = 3 + global as usize + 2 * local as usize * s.iterations as usize;
+        let waits = threads * s.substeps as usize * (per_substep + s.iterations as usize * (plan.steps + 2 * whole));
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
     }
@@ -196,9 +239,15 @@ impl Member<'_> {
     }
 }
 
+/// Which update a team sweep takes: the local mode's (with its context), else the lean kernels
+/// where `plain` ([`plain_chunk`]), else the general update of every element.
+struct Sweep<'a, V: Vector> {
+    plain: bool,
+    local: Option<LocalCtx<'a, V>>,
+}
+
 /// One Gauss-Seidel sweep of family `f` by the team, one step per color group ([`Plan`]). A
 /// family whose groups were not checked disjoint runs whole on thread 0 between two barriers.
-/// `plain`: the lean kernels ([`plain_chunk`]), else the general update of every element.
 fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     mut lambda: SharedPositions<'_, V::S>,
@@ -209,15 +258,23 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     me: &Member<'_>,
     family: &FamilyPlan,
     step: &mut usize,
-    plain: bool,
+    how: Sweep<'_, V>,
 ) {
     let mut chunk = |r: Range<usize>, x: &mut SharedPositions<'_, V>| {
-        let (es, ls) = (&f.elements[r.clone()], lambda.range_mut(r));
-        match plain {
-            true => plain_chunk(es, ls, &f.params, x, x_prev, w, k),
-            false => {
+        let (start, es, ls) = (r.start, &f.elements[r.clone()], lambda.range_mut(r));
+        match &how {
+            Sweep { local: Some(ctx), .. } => {
+                for (j, (e, l)) in es.iter().zip(ls).enumerate() {
+                    let adjust = |xs: &[V; N], ws: &[V::S; N], c_val, alpha| {
+                        local_adjusted(ctx, start + j, e.particles(), xs, ws, k, c_val, alpha)
+                    };
+                    update(e, &f.params, l, x, x_prev, w, k, adjust);
+                }
+            }
+            Sweep { plain: true, .. } => plain_chunk(es, ls, &f.params, x, x_prev, w, k),
+            Sweep { plain: false, .. } => {
                 for (e, l) in es.iter().zip(ls) {
-                    update(e, &f.params, l, x, x_prev, w, k, |c_val, _| c_val);
+                    update(e, &f.params, l, x, x_prev, w, k, |_, _, c_val, _| c_val);
                 }
             }
         }
