@@ -204,14 +204,15 @@ fn padded_and_packed_positions_give_the_same_bits() {
 }
 
 #[test]
-fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
+fn team_frames_match_one_thread_in_every_method_and_form() {
     // Substeps, contacts against the sphere and damping exercise every pass the team splits; the
     // refined bunny surface has elements that spread over the particle arrays; the energy form
     // and constraint damping take the general update instead of the lean kernels; the global
     // energy balance scales the velocities after every substep; the local mode reads its
-    // snapshots and start energies in every projection.
+    // snapshots and start energies in every projection; Jacobi adds up each particle's
+    // corrections in the one-thread order.
     use eapbd::constraints::Form;
-    use eapbd::solver::EnergyAware;
+    use eapbd::solver::{EnergyAware, Method};
     let cloth = SceneOptions { resolution: Some(64), stiffness: 1e5, ..SceneOptions::default() };
     let base = Settings { iterations: 3, substeps: 4, damping: 0.5, ..Settings::default() };
     let cases = [
@@ -222,6 +223,9 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
         ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Global, ..base }),
         ("cloth-sphere", cloth, Settings { energy_aware: EnergyAware::Local, ..base }),
         ("bunny-paper", SceneOptions::default(), Settings { energy_aware: EnergyAware::Local, ..base }),
+        ("cloth-sphere", cloth, Settings { method: Method::Jacobi, ..base }),
+        ("bunny-paper", SceneOptions::default(), Settings { method: Method::Jacobi, ..base }),
+        ("cloth-sphere", cloth, Settings { method: Method::Jacobi, energy_aware: EnergyAware::Local, ..base }),
     ];
     for (name, opts, settings) in cases {
         let run = |threads| {
@@ -240,8 +244,8 @@ fn team_frames_match_one_thread_in_every_gauss_seidel_form() {
         for threads in [2, 3] {
             let many = run(threads);
             let what = format!(
-                "{name}, {:?} form, β {}, {:?}, {threads} threads",
-                settings.form, settings.constraint_damping, settings.energy_aware
+                "{name}, {:?}, {:?} form, β {}, {:?}, {threads} threads",
+                settings.method, settings.form, settings.constraint_damping, settings.energy_aware
             );
             assert_eq!(one.0, many.0, "{what}: positions");
             assert_eq!(one.1, many.1, "{what}: velocities");

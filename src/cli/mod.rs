@@ -162,8 +162,8 @@ pub struct SceneArgs {
     /// Successive over-relaxation ω (every Δλ times ω; 1 = plain, 1.5 is the usual baseline).
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0)]
     pub sor: f32,
-    /// CPU threads that split the color groups and particle passes of Gauss-Seidel (0 = every
-    /// core, 1 = single-threaded, at most one per core; small groups and Jacobi run on one thread,
+    /// CPU threads that split the color groups (Jacobi: the constraints) and the particle passes
+    /// (0 = every core, 1 = single-threaded, at most one per core; small groups run on one thread,
     /// and the result does not depend on the count).
     #[arg(long, default_value_t = 0)]
     pub threads: u32,

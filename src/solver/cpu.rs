@@ -93,6 +93,9 @@ pub struct CpuSolver<V: Vector> {
     splittable: bool,
     /// The team's shares and boundary parts for the pool's thread count (built on first use).
     plan: Option<plan::Plan>,
+    /// Jacobi on the team: where each element's corrections go, and the corrections (built on
+    /// first use).
+    jacobi_slots: Option<(jacobi::Slots, Vec<V>)>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -119,6 +122,7 @@ impl<V: Vector> CpuSolver<V> {
             choice: team::Choice::default(),
             splittable,
             plan: None,
+            jacobi_slots: None,
             scene,
         }
     }
@@ -175,7 +179,7 @@ impl<V: Vector> CpuSolver<V> {
     }
 
     fn substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
-        if self.team_applies(s) {
+        if self.team_applies() {
             let start = std::time::Instant::now();
             let busy = match self.choice.team() {
                 true => self.team_substeps(s, k),
@@ -545,20 +549,47 @@ fn jacobi<E: Element<N>, V: Vector, const N: usize>(
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
 ) {
-    for (j, e) in f.elements.iter().enumerate() {
-        let idx = e.particles();
-        let xs = gather(&p.x, idx);
-        let ws = idx.map(|i| p.w[i as usize]);
-        let adjust = |c_val, alpha| match &local {
-            Some(ctx) => local_adjusted(ctx, j, idx, &xs, &ws, k, c_val, alpha),
-            None => c_val,
-        };
-        if let Some((grad, d)) = solve_element(e, &f.params, &xs, &ws, &p.x_prev, lambda[j], k, adjust) {
-            let d = d * scale[j];
-            lambda[j] += d;
-            for n in 0..N {
-                dx[idx[n] as usize] += grad[n] * (ws[n] * d);
+    for (j, (e, l)) in f.elements.iter().zip(lambda.iter_mut()).enumerate() {
+        let at = JacobiAt { x: &p.x, x_prev: &p.x_prev, w: &p.w, k };
+        if let Some(corr) = jacobi_element(e, &f.params, j, l, scale[j], at, local.as_ref()) {
+            for (i, c) in e.particles().into_iter().zip(corr) {
+                dx[i as usize] += c;
             }
         }
     }
+}
+
+/// The state a Jacobi pass reads: positions `x`, substep starts, inverse masses, constants.
+#[derive(Clone, Copy)]
+struct JacobiAt<'a, V: Vector> {
+    x: &'a [V],
+    x_prev: &'a [V],
+    w: &'a [V::S],
+    k: &'a StepConstants<V::S>,
+}
+
+/// Jacobi's update of element `j` (multiplier `lambda`, scale `s_j`): adds the scaled `Δλ` to
+/// `lambda` and returns each particle's correction `w_i ∇C_i Δλ`, or `None` when the element is
+/// skipped.
+#[inline(always)]
+fn jacobi_element<E: Element<N>, V: Vector, const N: usize>(
+    e: &E,
+    params: &E::Params,
+    j: usize,
+    lambda: &mut V::S,
+    scale: V::S,
+    at: JacobiAt<'_, V>,
+    local: Option<&LocalCtx<'_, V>>,
+) -> Option<[V; N]> {
+    let idx = e.particles();
+    let xs = gather(at.x, idx);
+    let ws = idx.map(|i| at.w[i as usize]);
+    let adjust = |c_val, alpha| match local {
+        Some(ctx) => local_adjusted(ctx, j, idx, &xs, &ws, at.k, c_val, alpha),
+        None => c_val,
+    };
+    let (grad, d) = solve_element(e, params, &xs, &ws, at.x_prev, *lambda, at.k, adjust)?;
+    let d = d * scale;
+    *lambda += d;
+    Some(std::array::from_fn(|n| grad[n] * (ws[n] * d)))
 }

@@ -27,3 +27,51 @@ pub fn scales<E: Element<N>, S: Real, const N: usize>(elements: &[E], count: &[u
         })
         .collect()
 }
+
+/// Where the team puts each element's Jacobi corrections before the particles add them up: one
+/// slot per particle of every element, family after family in solve order, and for each particle
+/// the slots that touch it in that same order, the order in which the one-thread pass adds them
+/// (so the sums, and the positions, are the same bits).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Slots {
+    /// First slot of each family: its element `j`'s particle `n` has slot `base[i] + N j + n`.
+    pub base: [usize; crate::scene::FAMILY_COUNT],
+    /// Particle `p`'s slots are `incident[offsets[p]..offsets[p + 1]]`.
+    pub offsets: Vec<u32>,
+    /// Slot indices grouped by particle.
+    pub incident: Vec<u32>,
+    /// Slots in all.
+    pub total: usize,
+}
+
+impl Slots {
+    /// The slots of every family of `scene`.
+    pub fn new(scene: &Scene) -> Self {
+        let count = constraint_counts(scene);
+        let mut offsets = Vec::with_capacity(count.len() + 1);
+        offsets.push(0u32);
+        for c in &count {
+            offsets.push(offsets[offsets.len() - 1] + c);
+        }
+        let mut fill: Vec<u32> = offsets[..count.len()].to_vec();
+        let mut incident = vec![0u32; offsets[count.len()] as usize];
+        let (mut base, mut next) = ([0; crate::scene::FAMILY_COUNT], 0usize);
+        crate::for_each_family!(scene, |i, f| {
+            base[i] = next;
+            for e in &f.elements {
+                for p in e.particles() {
+                    incident[fill[p as usize] as usize] = next as u32;
+                    fill[p as usize] += 1;
+                    next += 1;
+                }
+            }
+        });
+        Slots { base, offsets, incident, total: next }
+    }
+
+    /// The slots of particle `p`.
+    #[inline]
+    pub fn of(&self, p: usize) -> &[u32] {
+        &self.incident[self.offsets[p] as usize..self.offsets[p + 1] as usize]
+    }
+}

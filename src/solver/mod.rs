@@ -79,8 +79,8 @@ pub struct Settings {
     pub sor: f32,
     /// CPU threads: 1 runs single-threaded, 0 uses every core; at most one per core. On several threads the solver's
     /// pool runs each frame as a team that splits the per-particle passes and every color group
-    /// of at least [`PARALLEL_MIN_GROUP`] elements (Gauss-Seidel in either form and every
-    /// energy-aware mode; Jacobi runs on one thread). The result is the
+    /// of at least [`PARALLEL_MIN_GROUP`] elements (Gauss-Seidel and Jacobi, in either form and
+    /// every energy-aware mode). The result is the
     /// same for any count: the elements of a group share no particle, and two elements that share
     /// one are visited in the order of their groups. The GPU backend ignores it.
     pub threads: u32,

@@ -19,13 +19,15 @@ use crate::scene::{FAMILY_COUNT, Family, Scene};
 use super::super::barrier::{SpinBarrier, share};
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
+use super::super::jacobi;
 use super::super::particles;
 use super::super::shared::SharedPositions;
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{
-    CpuSolver, FamilyState, LocalCtx, balance, local_adjusted, plain_chunk, start_energies, total_energy, update,
+    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, jacobi_element, local_adjusted, plain_chunk, start_energies,
+    total_energy, update,
 };
 use crate::constraints::Element;
 
@@ -50,6 +52,9 @@ struct Views<'a, V: Vector> {
     /// The local mode's snapshots (current, previous) and start energies per family.
     local: Option<[SharedPositions<'a, V>; 2]>,
     energy_start: [SharedPositions<'a, V::S>; FAMILY_COUNT],
+    /// Jacobi's per-constraint scales and its corrections, one per slot ([`jacobi::Slots`]).
+    jacobi_scale: [&'a [V::S]; FAMILY_COUNT],
+    corr: SharedPositions<'a, V>,
 }
 
 /// What one thread of the team is.
@@ -63,14 +68,11 @@ struct Member<'a> {
 }
 
 impl<V: Vector> CpuSolver<V> {
-    /// `true` when `s` runs on the team: Gauss-Seidel (either form, with or without constraint
-    /// damping, in every energy-aware mode) on a pool of more than one thread, with groups large
-    /// enough to split.
-    pub(super) fn team_applies(&self, s: &Settings) -> bool {
-        s.method == Method::GaussSeidel
-            && rayon::current_thread_index().is_some()
-            && rayon::current_num_threads() > 1
-            && self.splittable
+    /// `true` when the frame runs on the team: Gauss-Seidel or Jacobi (either form, with or
+    /// without constraint damping, in every energy-aware mode) on a pool of more than one thread,
+    /// with color groups large enough to split.
+    pub(super) fn team_applies(&self) -> bool {
+        rayon::current_thread_index().is_some() && rayon::current_num_threads() > 1 && self.splittable
     }
 
     /// The frame's substeps on every thread of the current pool (see the module documentation);
@@ -87,16 +89,26 @@ impl<V: Vector> CpuSolver<V> {
         let barrier = SpinBarrier::new(threads);
         let n = self.particles.len();
         let scene = &self.scene;
+        let jacobi = s.method == Method::Jacobi;
+        if jacobi && self.jacobi_slots.is_none() {
+            let slots = jacobi::Slots::new(&self.scene);
+            let corr = vec![V::ZERO; slots.total];
+            self.jacobi_slots = Some((slots, corr));
+        }
+        let (slots, corr) = match self.jacobi_slots.as_mut().filter(|_| jacobi) {
+            Some((slots, corr)) => (Some(&*slots), SharedPositions::new(&mut corr[..])),
+            None => (None, SharedPositions::new(&mut [][..])),
+        };
         let local = s.energy_aware == EnergyAware::Local;
         if local {
             crate::for_each_family!(scene, |i, f| self.fam[i].energy_start.resize(f.len(), V::S::zero()));
         }
         let p = &mut self.particles;
         let w = &p.w[..];
-        let fam = self
-            .fam
-            .each_mut()
-            .map(|st| (SharedPositions::new(&mut st.lambda[..]), SharedPositions::new(&mut st.energy_start[..])));
+        let fam = self.fam.each_mut().map(|st| {
+            let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
+            (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..])
+        });
         let views = Views {
             x: SharedPositions::new(&mut p.x),
             x_prev: SharedPositions::new(&mut p.x_prev),
@@ -109,6 +121,8 @@ impl<V: Vector> CpuSolver<V> {
                 .filter(|_| local)
                 .map(|l| [SharedPositions::new(&mut l.current), SharedPositions::new(&mut l.previous)]),
             energy_start: fam.map(|f| f.1),
+            jacobi_scale: fam.map(|f| f.2),
+            corr,
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         // Thread 0's ledger; with the global balance it also computes the energies, alone.
@@ -159,15 +173,42 @@ impl<V: Vector> CpuSolver<V> {
                         current.range_mut(mine.clone()).copy_from_slice(&v.x.read_all()[mine.clone()]);
                         barrier.wait();
                     }
-                    crate::for_each_family!(scene, |i, f| {
-                        let x_prev = v.x_prev.read_all();
-                        let family = &plan.families[i];
-                        let ctx = v.local.as_ref().map(|[current, previous]| LocalCtx {
+                    let ctx = |i: usize| {
+                        v.local.as_ref().map(|[current, previous]| LocalCtx {
                             current: current.read_all(),
                             previous: previous.read_all(),
                             energy_start: v.energy_start[i].read_all(),
+                        })
+                    };
+                    if let Some(slots) = slots {
+                        // Jacobi: each thread its share of every family's corrections, then of the
+                        // particles' sums, in the one-thread order ([`jacobi::Slots`]).
+                        let at = JacobiAt { x: v.x.read_all(), x_prev: v.x_prev.read_all(), w, k };
+                        crate::for_each_family!(scene, |i, f| {
+                            let r = share(0..f.len(), me.t, threads, 1);
+                            let n = f.elements.first().map_or(0, |e| e.particles().len());
+                            let corr = v.corr.range_mut(slots.base[i] + n * r.start..slots.base[i] + n * r.end);
+                            let (lambda, scale) = (v.lambda[i].range_mut(r.clone()), v.jacobi_scale[i]);
+                            jacobi_share(f, r, lambda, scale, at, ctx(i).as_ref(), corr)
                         });
-                        let how = Sweep { plain, local: ctx };
+                        barrier.wait();
+                        let corr = v.corr.read_all();
+                        for (x, p) in v.x.range_mut(mine.clone()).iter_mut().zip(mine.clone()) {
+                            let mut d = V::ZERO;
+                            for &slot in slots.of(p) {
+                                d += corr[slot as usize];
+                            }
+                            *x += d;
+                        }
+                        let x_prev = &v.x_prev.read_all()[mine.clone()];
+                        project_range(scene, v.x.range_mut(mine.clone()), x_prev, &w[mine.clone()]);
+                        barrier.wait();
+                        continue;
+                    }
+                    crate::for_each_family!(scene, |i, f| {
+                        let x_prev = v.x_prev.read_all();
+                        let family = &plan.families[i];
+                        let how = Sweep { plain, local: ctx(i) };
                         team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
                     if let Some(parts) = &plan.contacts {
@@ -211,7 +252,8 @@ impl<V: Vector> CpuSolver<V> {
         self.ledger = totals[0].0;
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
         let per_substep = 3 + global as usize + 2 * local as usize * s.iterations as usize;
-        let waits = threads * s.substeps as usize * (per_substep + s.iterations as usize * (plan.steps + 2 * whole));
+        let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
+        let waits = threads * s.substeps as usize * (per_substep + s.iterations as usize * per_iteration);
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
     }
@@ -236,6 +278,24 @@ impl Member<'_> {
             }
         }
         *step += 1;
+    }
+}
+
+/// Jacobi's update of the elements `range` of `f`: their multipliers `lambda` (indexed from the
+/// range's start), and their corrections into `corr`, `N` per element (zero where an element is
+/// skipped, which adds nothing: a sum that starts at `+0` never holds `−0`).
+fn jacobi_share<E: Element<N>, V: Vector, const N: usize>(
+    f: &Family<E, N>,
+    range: Range<usize>,
+    lambda: &mut [V::S],
+    scale: &[V::S],
+    at: JacobiAt<'_, V>,
+    local: Option<&LocalCtx<'_, V>>,
+    corr: &mut [V],
+) {
+    for ((j, l), c) in range.zip(lambda).zip(corr.chunks_exact_mut(N)) {
+        let out = jacobi_element(&f.elements[j], &f.params, j, l, scale[j], at, local).unwrap_or([V::ZERO; N]);
+        c.copy_from_slice(&out);
     }
 }
 
