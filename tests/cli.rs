@@ -255,3 +255,22 @@ fn an_adapter_name_that_matches_nothing_is_an_error_not_a_panic() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains("WGPU_ADAPTER_NAME") && err.contains("matches none"), "{err}");
 }
+
+#[test]
+fn a_reader_that_stops_early_ends_the_output_without_a_panic() {
+    // `eapbd simulate … | head -1`: the reader closes the pipe after one line.
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .args(["simulate", "--scene", "cloth", "--resolution", "9", "--frames", "2000", "--print-every", "1"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().expect("stdout")).read_line(&mut first).expect("one line");
+    assert!(first.starts_with("scene cloth"), "{first}");
+    let out = child.wait_with_output().expect("the binary ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && !stderr.contains("panicked"), "{:?}\n{stderr}", out.status);
+}

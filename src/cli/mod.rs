@@ -1,5 +1,16 @@
 //! Command-line arguments shared by the subcommands.
 
+/// `println!` for the commands' output: ends the program quietly when standard output is closed
+/// (piped into `head`, say) instead of panicking ([`write_out`]).
+macro_rules! say {
+    ($($t:tt)*) => { $crate::cli::write_out(format_args!($($t)*), true) };
+}
+
+/// `print!` for the commands' output, as [`say!`].
+macro_rules! put {
+    ($($t:tt)*) => { $crate::cli::write_out(format_args!($($t)*), false) };
+}
+
 pub mod bench;
 pub mod render;
 pub mod report;
@@ -237,7 +248,7 @@ impl SceneArgs {
             .filter(|id| !scene_ids.iter().any(|s| s == id) || matches!(*id, "save_scene" | "scene_file"))
             .collect();
         scene_file::write(path, matches, &skip)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
         Ok(())
     }
 
@@ -272,5 +283,22 @@ impl SceneArgs {
         };
         s.validate()?;
         Ok(s)
+    }
+}
+
+/// Writes `args` (and a newline when `line`) to standard output. A reader that went away (a
+/// broken pipe) ends the program with success, as the usual command-line tools do; any other
+/// write error ends it with a message and status 1.
+pub fn write_out(args: std::fmt::Arguments<'_>, line: bool) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let written = out.write_fmt(args).and_then(|()| if line { out.write_all(b"\n") } else { Ok(()) });
+    match written.and_then(|()| out.flush()) {
+        Ok(()) => {}
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => std::process::exit(0),
+        Err(e) => {
+            eprintln!("Error: cannot write to standard output: {e}");
+            std::process::exit(1);
+        }
     }
 }

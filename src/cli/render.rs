@@ -55,7 +55,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
             let img = snap.capture(&ctx, &sim)?;
             let path = a.out.join(format!("frame_{frame:05}.png"));
             save_png(&img, &path)?;
-            bar.suspend(|| println!("wrote {}", path.display()));
+            bar.suspend(|| say!("wrote {}", path.display()));
         }
         bar.inc(1);
     }

@@ -193,7 +193,7 @@ fn energy(a: &EnergyArgs) -> anyhow::Result<()> {
     let bar = indicatif::ProgressBar::new(opts.runs() as u64);
     let results = energy::run_study(&opts, |r| {
         bar.suspend(|| {
-            println!(
+            say!(
                 "{:12} dt 1/{:<3} {:3} it  {:8}  drift {:+7.1}%  stretch {:.4}  {:.2} ms/frame{}",
                 r.scene,
                 (1.0 / r.dt).round(),
@@ -209,7 +209,7 @@ fn energy(a: &EnergyArgs) -> anyhow::Result<()> {
     })?;
     bar.finish_and_clear();
     energy::write_outputs(&a.out, &opts, &results)?;
-    println!("wrote {}", a.out.join("energy.md").display());
+    say!("wrote {}", a.out.join("energy.md").display());
     Ok(())
 }
 
@@ -218,7 +218,7 @@ fn beam(a: &BeamArgs) -> anyhow::Result<()> {
     let bar = indicatif::ProgressBar::new(opts.steps() as u64);
     let results = beam::run_study(&opts, |step| {
         bar.suspend(|| match step {
-            beam::Step::Static(st) => println!(
+            beam::Step::Static(st) => say!(
                 "static {:12} n {:2}  {:5} tets  δ {:.4} mm = {:.3} δ_EB  ({} Newton, {} CG, {:.1} s)",
                 st.model.name(),
                 st.resolution,
@@ -229,7 +229,7 @@ fn beam(a: &BeamArgs) -> anyhow::Result<()> {
                 st.cg_iterations,
                 st.wall
             ),
-            beam::Step::Run(r) => println!(
+            beam::Step::Run(r) => say!(
                 "xpbd   {:12} n {:2}  {:5} tets  {} {:3}×{:<3} β {:3.0}  δ {:.4} mm = {:.3} δ_EB = {:.4} static{}  \
                  ({:.2} s simulated, {:.1} s)",
                 r.config.model.name(),
@@ -251,7 +251,7 @@ fn beam(a: &BeamArgs) -> anyhow::Result<()> {
     })?;
     bar.finish_and_clear();
     beam::write_outputs(&a.out, &opts, &results)?;
-    println!("wrote {}", a.out.join("beam.md").display());
+    say!("wrote {}", a.out.join("beam.md").display());
     Ok(())
 }
 
@@ -265,7 +265,7 @@ fn stability(a: &StabilityArgs) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let entries = stability::run_study(&cases, gpu.as_ref(), |e| {
         bar.suspend(|| match e {
-            stability::Entry::Ran(o) => println!(
+            stability::Entry::Ran(o) => say!(
                 "{:24} {}  {:4}  E {:9.3e}  KE {:9.3e}  stretch {:9.3e}  edge {:.3}  inverted {}→{}  {:6.2} s{}",
                 o.case,
                 o.backend.name(),
@@ -280,14 +280,14 @@ fn stability(a: &StabilityArgs) -> anyhow::Result<()> {
                 if o.passed() { String::new() } else { format!("  ({})", o.failures().join("; ")) }
             ),
             stability::Entry::Skipped { case, backend, reason } => {
-                println!("{case:24} {}  skipped ({reason})", backend.name())
+                say!("{case:24} {}  skipped ({reason})", backend.name())
             }
         });
         bar.inc(1);
     })?;
     bar.finish_and_clear();
     stability::write_outputs(&a.out, &cases, &entries, a.quick)?;
-    println!("wrote {} ({:.1} s)", a.out.join("stability.md").display(), started.elapsed().as_secs_f64());
+    say!("wrote {} ({:.1} s)", a.out.join("stability.md").display(), started.elapsed().as_secs_f64());
     Ok(())
 }
 
@@ -307,7 +307,7 @@ fn error_vs_time(a: &ErrorArgs) -> anyhow::Result<()> {
                 bar.set_message(format!("{}reference frame {frame}/{of}", if check { "half-substep " } else { "" }));
             }
             Progress::Sweep(r) => bar.suspend(|| {
-                println!(
+                say!(
                     "{:34} {:3} it × {:3} sub  e {:9.3e}  {:8.2} ms/frame{}",
                     r.variant.name(),
                     r.iterations,
@@ -319,7 +319,7 @@ fn error_vs_time(a: &ErrorArgs) -> anyhow::Result<()> {
             }),
             Progress::Track(points) => bar.suspend(|| {
                 if let (Some(first), Some(last)) = (points.first(), points.last()) {
-                    println!(
+                    say!(
                         "{:34} {:3} it × {:3} sub  e over {} frames: {:9.3e} … {:9.3e}",
                         first.variant.name(),
                         first.iterations,
@@ -334,11 +334,13 @@ fn error_vs_time(a: &ErrorArgs) -> anyhow::Result<()> {
         bar.inc(1);
     })?;
     bar.finish_and_clear();
-    println!(
+    say!(
         "reference: {} substeps, {:.2} s/frame, half-substep check e = {:.2e}",
-        study.reference.substeps, study.reference.seconds_per_frame, study.reference.check_error
+        study.reference.substeps,
+        study.reference.seconds_per_frame,
+        study.reference.check_error
     );
     error_time::write_outputs(&out, &study)?;
-    println!("wrote {} ({:.1} s)", out.join("error_vs_time.md").display(), study.wall);
+    say!("wrote {} ({:.1} s)", out.join("error_vs_time.md").display(), study.wall);
     Ok(())
 }

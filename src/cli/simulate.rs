@@ -53,12 +53,12 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         Backend::Gpu => {
             let ctx = GpuContext::new()?;
             let kernels = Arc::new(Kernels::new(&ctx.device));
-            println!("GPU: {}", ctx.describe());
+            say!("GPU: {}", ctx.describe());
             Some((ctx, kernels))
         }
         Backend::Cpu => None,
     };
-    println!(
+    say!(
         "scene {}: {} particles, {} constraints ({}), {} form, {}, {} iterations x {} substeps, dt {:.6} s, {} backend",
         scene.name,
         scene.num_particles(),
@@ -105,7 +105,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         if printing || csv.is_some() || frame == a.frames {
             last = sim.stats(frame, ms)?;
             if printing {
-                println!("{last}");
+                say!("{last}");
             }
             if let Some(f) = &mut csv {
                 writeln!(f, "{}", last.csv_row())?;
@@ -117,7 +117,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     }
     let x = sim.positions()?;
     let finite = x.iter().all(|x| x.is_finite()) && last.is_finite();
-    println!(
+    say!(
         "summary: {} frames, {:.3} ms/frame mean solve time, final stretch mean {:.3e} max {:.3e}, total energy {:.4e} J, {}",
         a.frames,
         total_ms / a.frames.max(1) as f64,
@@ -129,7 +129,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     if let Some(path) = &a.export_obj {
         let (x, triangles) = sim.scene().surface(&x);
         eapbd::mesh::write_obj(path, &x, triangles)?;
-        println!("wrote {}", path.display());
+        say!("wrote {}", path.display());
     }
     anyhow::ensure!(finite, "the simulation produced non-finite values");
     Ok(())

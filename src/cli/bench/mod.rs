@@ -124,10 +124,10 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     let mut md = output::markdown(&results);
     let wall = started.elapsed().as_secs_f64();
     md.push_str(&format!("\nRun time: {wall:.0} s.\n"));
-    print!("{md}");
+    put!("{md}");
     output::write_files(&out, &results)?;
     output::write(&out, "bench.md", &md)?;
     scaling::plot(&out.join("scaling.png"), &results.scaling, &gpu_name)?;
-    println!("\nwrote {} (bench.csv, scaling.csv, peer.csv, scaling.png)", out.join("bench.md").display());
+    say!("\nwrote {} (bench.csv, scaling.csv, peer.csv, scaling.png)", out.join("bench.md").display());
     Ok(())
 }
