@@ -156,14 +156,8 @@ fn fast_atan2_matches_the_library() {
 fn threads_give_the_same_result_as_one_thread() {
     // 128 × 128 cloth: spring groups of about 8,000 elements, above the parallel threshold.
     let opts = SceneOptions { resolution: Some(128), stiffness: 1e5, ..SceneOptions::default() };
-    let run = |threads| {
-        let mut s = CpuSolver::<Vec3A>::new(scene::build("cloth", &opts).unwrap());
-        let settings = Settings { iterations: 10, threads, ..Settings::default() };
-        for _ in 0..10 {
-            s.step_frame(&settings);
-        }
-        s.particles.x
-    };
+    let scene = scene::build("cloth", &opts).unwrap();
+    let run = |threads| positions_after(&scene, Settings { iterations: 10, threads, ..Settings::default() }, 10);
     let one = run(1);
     assert_eq!(one, run(0), "every core");
     assert_eq!(one, run(2), "two threads");
@@ -264,16 +258,18 @@ fn a_family_with_overlapping_groups_runs_whole_on_the_team() {
     let bends = scene.bends.as_mut().expect("bending");
     bends.colors = std::iter::once(0..bends.elements.len() as u32).collect();
     assert!(!bends.groups_disjoint(scene.positions.len()));
-    let settings = Settings { iterations: 3, substeps: 2, ..Settings::default() };
-    let run = |threads| {
-        let mut s = CpuSolver::<Vec3A>::new(scene.clone());
-        let settings = Settings { threads, ..settings };
-        for _ in 0..20 {
-            s.step_frame(&settings);
-        }
-        s.particles.x
-    };
+    let run =
+        |threads| positions_after(&scene, Settings { iterations: 3, substeps: 2, threads, ..Settings::default() }, 20);
     let one = run(1);
     assert_eq!(one, run(2), "two threads");
     assert_eq!(one, run(3), "three threads");
+}
+
+/// The particle positions after `frames` frames of `scene` with `settings`.
+fn positions_after(scene: &eapbd::scene::Scene, settings: Settings, frames: usize) -> Vec<Vec3A> {
+    let mut s = CpuSolver::<Vec3A>::new(scene.clone());
+    for _ in 0..frames {
+        s.step_frame(&settings);
+    }
+    s.particles.x
 }

@@ -18,6 +18,7 @@ use super::particles;
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
 
+mod choice;
 mod plan;
 mod team;
 
@@ -87,8 +88,8 @@ pub struct CpuSolver<V: Vector> {
     work_blocks: Vec<f64>,
     /// The solver's pool for a thread count above one (built on first use).
     pool: Option<(u32, Arc<rayon::ThreadPool>)>,
-    /// Whether the next frame runs on the team or on one thread ([`team::Choice`]).
-    choice: team::Choice,
+    /// Whether the next frame runs on the team or on one thread ([`choice::Choice`]).
+    choice: choice::Choice,
     /// Some family has a group the team may split ([`team::splittable`]), fixed by the scene.
     splittable: bool,
     /// The team's shares and boundary parts for the pool's thread count (built on first use).
@@ -119,7 +120,7 @@ impl<V: Vector> CpuSolver<V> {
             last: None,
             work_blocks: vec![0.0; n.div_ceil(particles::WORK_BLOCK)],
             pool: None,
-            choice: team::Choice::default(),
+            choice: choice::Choice::default(),
             splittable,
             plan: None,
             jacobi_slots: None,

@@ -11,7 +11,6 @@
 
 use std::cell::Cell;
 use std::ops::Range;
-use std::time::Duration;
 
 use crate::math::prelude::*;
 use crate::scene::{FAMILY_COUNT, Family, Scene};
@@ -186,9 +185,8 @@ impl<V: Vector> CpuSolver<V> {
                         let at = JacobiAt { x: v.x.read_all(), x_prev: v.x_prev.read_all(), w, k };
                         crate::for_each_family!(scene, |i, f| {
                             let r = share(0..f.len(), me.t, threads, 1);
-                            let n = f.elements.first().map_or(0, |e| e.particles().len());
-                            let corr = v.corr.range_mut(slots.base[i] + n * r.start..slots.base[i] + n * r.end);
                             let (lambda, scale) = (v.lambda[i].range_mut(r.clone()), v.jacobi_scale[i]);
+                            let corr = (&mut v.corr, slots.base[i]);
                             jacobi_share(f, r, lambda, scale, at, ctx(i).as_ref(), corr)
                         });
                         barrier.wait();
@@ -282,8 +280,9 @@ impl Member<'_> {
 }
 
 /// Jacobi's update of the elements `range` of `f`: their multipliers `lambda` (indexed from the
-/// range's start), and their corrections into `corr`, `N` per element (zero where an element is
-/// skipped, which adds nothing: a sum that starts at `+0` never holds `−0`).
+/// range's start), and their corrections into the slots of `corr = (slots, family's first slot)`,
+/// `N` per element (zero where an element is skipped, which adds nothing: a sum that starts at `+0`
+/// never holds `−0`).
 fn jacobi_share<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     range: Range<usize>,
@@ -291,8 +290,9 @@ fn jacobi_share<E: Element<N>, V: Vector, const N: usize>(
     scale: &[V::S],
     at: JacobiAt<'_, V>,
     local: Option<&LocalCtx<'_, V>>,
-    corr: &mut [V],
+    (slots, base): (&mut SharedPositions<'_, V>, usize),
 ) {
+    let corr = slots.range_mut(base + N * range.start..base + N * range.end);
     for ((j, l), c) in range.zip(lambda).zip(corr.chunks_exact_mut(N)) {
         let out = jacobi_element(&f.elements[j], &f.params, j, l, scale[j], at, local).unwrap_or([V::ZERO; N]);
         c.copy_from_slice(&out);
@@ -362,75 +362,3 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
 /// threads may have waited for one another because the cores run other work too (another
 /// process, another solver), or only because its groups are long (a wait past the spin sleeps).
 const BUSY_FRACTION: usize = 8;
-
-/// Frames run on one thread once one thread was found faster than the team.
-const ALONE_FRAMES: u32 = 30;
-
-/// Frames the team runs unchecked once it was found faster than one thread.
-const TRUSTED_FRAMES: u32 = 120;
-
-/// How the next frame runs: the team, unless a suspect team frame (see [`BUSY_FRACTION`]) was
-/// followed by a faster frame on one thread. The positions are the same either way; only the
-/// time changes.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(super) enum Choice {
-    /// The team, checked after each frame.
-    #[default]
-    Team,
-    /// One frame on one thread, to compare with the suspect team frame's time.
-    Check(Duration),
-    /// One thread for this many more frames.
-    Alone(u32),
-    /// The team, unchecked for this many more frames.
-    Trusted(u32),
-}
-
-impl Choice {
-    /// `true` when the next frame runs on the team.
-    pub fn team(self) -> bool {
-        matches!(self, Choice::Team | Choice::Trusted(_))
-    }
-
-    /// The choice after a frame that took `time`; `busy`: a team frame that slept at many
-    /// barriers.
-    pub fn next(self, time: Duration, busy: bool) -> Choice {
-        match self {
-            Choice::Team if busy => Choice::Check(time),
-            Choice::Team | Choice::Trusted(1) | Choice::Alone(1) => Choice::Team,
-            Choice::Trusted(n) => Choice::Trusted(n - 1),
-            Choice::Alone(n) => Choice::Alone(n - 1),
-            Choice::Check(team) if time < team => Choice::Alone(ALONE_FRAMES),
-            Choice::Check(_) => Choice::Trusted(TRUSTED_FRAMES),
-        }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_suspect_team_frame_is_checked_against_one_thread() {
-        let ms = Duration::from_millis;
-        assert_eq!(Choice::Team.next(ms(10), false), Choice::Team);
-        let check = Choice::Team.next(ms(36), true);
-        assert_eq!(check, Choice::Check(ms(36)));
-        assert!(!check.team());
-        // One thread was faster: it keeps the frames for a while, then the team is tried again.
-        let mut c = check.next(ms(17), false);
-        assert_eq!(c, Choice::Alone(ALONE_FRAMES));
-        for _ in 0..ALONE_FRAMES {
-            assert!(!c.team());
-            c = c.next(ms(17), false);
-        }
-        assert_eq!(c, Choice::Team);
-        // The team was faster (long groups, not busy cores): it runs unchecked for a while.
-        let mut c = Choice::Check(ms(160)).next(ms(260), false);
-        assert_eq!(c, Choice::Trusted(TRUSTED_FRAMES));
-        for _ in 0..TRUSTED_FRAMES {
-            assert!(c.team());
-            c = c.next(ms(160), true);
-        }
-        assert_eq!(c, Choice::Team);
-    }
-}
