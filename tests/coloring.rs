@@ -1,28 +1,63 @@
 //! Mesh coloring: valid partitions on the cloth and on random graphs, and the solve order.
 
 use eapbd::coloring::{self, Incidence};
-use eapbd::mesh::{dihedral_pairs, grid, unique_edges};
+use eapbd::mesh::{Diagonals, dihedral_pairs, grid, unique_edges};
 use eapbd::scene::{self, SceneOptions};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
 #[test]
 fn cloth_springs_and_bending_are_validly_colored() {
-    let mesh = grid(41, 1.0, 0.0);
-    let n = mesh.positions.len();
-    let edges = unique_edges(&mesh.triangles);
-    assert_eq!(edges.len(), 4880, "the paper's cloth has 4880 edges");
-    let c = coloring::color(n, &edges);
-    c.validate(n, &edges).unwrap();
-    let s = c.stats();
-    // Interior particles touch 6 springs, so at least 6 colors are needed.
-    assert!((6..=8).contains(&s.colors), "{s}");
-    assert!(s.max_group - s.min_group <= s.max_group / 10, "unbalanced groups: {s}");
+    for diagonals in [Diagonals::Uniform, Diagonals::Alternating] {
+        let mesh = grid(41, 1.0, 0.0, diagonals);
+        let n = mesh.positions.len();
+        let edges = unique_edges(&mesh.triangles);
+        assert_eq!(edges.len(), 4880, "the paper's cloth has 4880 edges");
+        let c = coloring::color(n, &edges);
+        c.validate(n, &edges).unwrap();
+        let s = c.stats();
+        // Interior particles touch 6 springs (uniform) or alternately 4 and 8 (alternating), so
+        // at least 6 or 8 colors are needed.
+        match diagonals {
+            Diagonals::Uniform => {
+                assert!((6..=8).contains(&s.colors), "{s}");
+                assert!(s.max_group - s.min_group <= s.max_group / 10, "unbalanced groups: {s}");
+            }
+            Diagonals::Alternating => assert!((8..=10).contains(&s.colors), "{s}"),
+        }
 
-    let hinges = dihedral_pairs(&mesh.triangles);
-    assert_eq!(hinges.len(), 4880 - 4 * 40, "one hinge per interior edge");
-    let c = coloring::color(n, &hinges);
-    c.validate(n, &hinges).unwrap();
+        let hinges = dihedral_pairs(&mesh.triangles);
+        assert_eq!(hinges.len(), 4880 - 4 * 40, "one hinge per interior edge");
+        let c = coloring::color(n, &hinges);
+        c.validate(n, &hinges).unwrap();
+    }
+}
+
+#[test]
+fn alternating_diagonals_form_a_checkerboard_facing_up() {
+    let n = 5u32;
+    let mesh = grid(n, 1.0, 0.0, Diagonals::Alternating);
+    let edges = unique_edges(&mesh.triangles);
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = i + n * j;
+            let (b, c, d) = (a + 1, a + n, a + n + 1);
+            let has = |p: u32, q: u32| edges.contains(&[p.min(q), p.max(q)]);
+            // Quad (i, j): the diagonal b–c where i + j is even, a–d where it is odd, never both.
+            let odd = (i + j) % 2 == 1;
+            assert_eq!((has(b, c), has(a, d)), (!odd, odd), "quad ({i}, {j})");
+        }
+    }
+    for t in &mesh.triangles {
+        let [p, q, r] = t.map(|k| mesh.positions[k as usize]);
+        let normal = (q - p).cross(r - p);
+        assert!(normal.y > 0.0 && normal.x.abs() < 1e-6 && normal.z.abs() < 1e-6, "triangle {t:?} faces {normal}");
+    }
+    // The scene builds it on request, and only for cloth scenes.
+    let o = SceneOptions { resolution: Some(n), diagonals: Diagonals::Alternating, ..SceneOptions::default() };
+    assert_eq!(scene::build("cloth", &o).unwrap().triangles, mesh.triangles);
+    let err = scene::build("beam", &o).unwrap_err().to_string();
+    assert!(err.contains("--diagonals"), "{err}");
 }
 
 #[test]

@@ -23,6 +23,7 @@ use std::str::FromStr;
 use clap::{Args, Parser, Subcommand};
 use eapbd::constraints::{Form, Orthotropic, SpringMaterial};
 use eapbd::material::Model;
+use eapbd::mesh::Diagonals;
 use eapbd::scene::{Body, SceneOptions, TetMode};
 use eapbd::solver::{EnergyAware, Method, Settings};
 
@@ -126,6 +127,10 @@ pub struct SceneArgs {
     /// triangles paired with the centroid).
     #[arg(long, default_value = "volume", value_parser = named::<TetMode>)]
     pub tets: TetMode,
+    /// Cloth scenes: every quad split along the same diagonal (uniform) or along alternating
+    /// ones in a checkerboard (alternating: the PositionBasedDynamics library's cloth mesh).
+    #[arg(long, default_value = "uniform", value_parser = named::<Diagonals>)]
+    pub diagonals: Diagonals,
     /// aniso-cloth: warp modulus E_u along x (N/m; default: --stiffness).
     #[arg(long, allow_negative_numbers = true)]
     pub warp: Option<f64>,
@@ -233,6 +238,7 @@ impl SceneArgs {
             tets: self.tets,
             body: self.body,
             lattice: self.lattice,
+            diagonals: self.diagonals,
         })
     }
 

@@ -3,11 +3,36 @@
 use glam::Vec3;
 
 use super::TriMesh;
+use crate::error::{Error, Result};
+
+/// Which diagonal each quad of a [`grid`] is split along.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Diagonals {
+    /// Every quad `(i, j)` split along the diagonal from `(i + 1, j)` to `(i, j + 1)`.
+    #[default]
+    Uniform,
+    /// A checkerboard: quads with `i + j` odd split along the other diagonal, from `(i, j)` to
+    /// `(i + 1, j + 1)`. The PositionBasedDynamics library's regular triangle model is split
+    /// this way, so its cloth and ours are the same mesh.
+    Alternating,
+}
+
+impl Diagonals {
+    /// Names accepted on the command line.
+    pub const NAMES: [&'static str; 2] = ["uniform", "alternating"];
+}
+
+impl std::str::FromStr for Diagonals {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        Error::lookup("diagonals", s, &[("uniform", Diagonals::Uniform), ("alternating", Diagonals::Alternating)])
+    }
+}
 
 /// An `n × n` grid of side `size` (m), horizontal (normal +y) at height `height`, centred on the
-/// y axis, one diagonal per quad: `2n(n−1) + (n−1)²` edges, `2(n−1)²` triangles. Vertex
-/// `(i, j)` (i along x, j along z) has index `i + n j`.
-pub fn grid(n: u32, size: f32, height: f32) -> TriMesh {
+/// y axis, one diagonal per quad (chosen by `diagonals`): `2n(n−1) + (n−1)²` edges, `2(n−1)²`
+/// triangles. Vertex `(i, j)` (i along x, j along z) has index `i + n j`.
+pub fn grid(n: u32, size: f32, height: f32, diagonals: Diagonals) -> TriMesh {
     let step = size / (n - 1) as f32;
     let half = size / 2.0;
     let positions = (0..n)
@@ -18,8 +43,13 @@ pub fn grid(n: u32, size: f32, height: f32) -> TriMesh {
         for i in 0..n - 1 {
             let a = i + n * j;
             let (b, c, d) = (a + 1, a + n, a + n + 1);
-            triangles.push([a, c, b]);
-            triangles.push([b, c, d]);
+            if diagonals == Diagonals::Alternating && (i + j) % 2 == 1 {
+                triangles.push([a, c, d]);
+                triangles.push([a, d, b]);
+            } else {
+                triangles.push([a, c, b]);
+                triangles.push([b, c, d]);
+            }
         }
     }
     TriMesh { positions, triangles }

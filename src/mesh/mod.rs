@@ -10,7 +10,7 @@ mod tetgen;
 mod tetmesh;
 mod topology;
 
-pub use grid::grid;
+pub use grid::{Diagonals, grid};
 pub use lattice::{Binding, EmbeddedTets, embedded_positions, winding_number};
 pub use load::{load_obj, parse_obj};
 pub use obj::write_obj;

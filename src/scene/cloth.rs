@@ -35,7 +35,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         Kind::Sphere => 0.9,
         _ => 1.2,
     };
-    let mesh = grid(n, SIZE, height);
+    let mesh = grid(n, SIZE, height, o.diagonals);
     mesh.validate()?;
     let mut inv_mass: Vec<f32> = mesh.lumped_masses(MASS).iter().map(|m| 1.0 / m).collect();
     if matches!(kind, Kind::Hanging | Kind::Paper) {

@@ -42,7 +42,7 @@ use glam::Vec3;
 
 use crate::constraints::{Bend, Membrane, Orthotropic, Spring, SpringMaterial, Tet};
 use crate::error::{Error, Result};
-use crate::mesh::{Binding, embedded_positions};
+use crate::mesh::{Binding, Diagonals, embedded_positions};
 
 /// A horizontal ground plane `y = height` with Coulomb friction.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,6 +146,8 @@ pub struct SceneOptions {
     pub body: Option<Body>,
     /// `volume` bodies: lattice cells along the longest side (`None`: [`DEFAULT_LATTICE`]).
     pub lattice: Option<u32>,
+    /// Cloth scenes: how the grid's quads are split into triangles.
+    pub diagonals: Diagonals,
 }
 
 /// How a volumetric scene's body is split into tetrahedra.
@@ -185,6 +187,7 @@ impl Default for SceneOptions {
             tets: TetMode::Volume,
             body: None,
             lattice: None,
+            diagonals: Diagonals::Uniform,
         }
     }
 }
@@ -260,6 +263,13 @@ fn build_from(name: &str, opts: &SceneOptions, surface: Option<crate::mesh::TriM
     )?;
     if !matches!(kind, K::Bunny(_)) && opts.body.is_some() {
         return Err(Error::param("--body", name, "applies to the scenes bunny and bunny-paper"));
+    }
+    if !matches!(kind, K::Cloth(_)) && opts.diagonals != Diagonals::Uniform {
+        return Err(Error::param(
+            "--diagonals",
+            "alternating",
+            "applies to the cloth scenes (cloth, cloth-paper, cloth-sphere, cloth-free)",
+        ));
     }
     if matches!(kind, K::Bunny(_)) && opts.membrane.is_some() {
         return Err(Error::param("--material", "aniso-cloth", "is a cloth model; the bunny takes springs or tets"));

@@ -5,6 +5,7 @@
 use crate::constraints::{Orthotropic, SpringMaterial};
 use crate::error::Result;
 use crate::material::Model;
+use crate::mesh::Diagonals;
 use crate::scene::{self, SceneOptions, TetMode};
 use crate::simulation::Backend;
 use crate::solver::Settings;
@@ -120,6 +121,8 @@ pub struct SceneChoice {
     pub resolution: Option<u32>,
     /// How volumetric scenes are split into tetrahedra.
     pub tets: TetMode,
+    /// How cloth grids are split into triangles.
+    pub diagonals: Diagonals,
     /// Gravity on.
     pub gravity: bool,
 }
@@ -154,6 +157,7 @@ impl SceneChoice {
             bending: opts.bending_stiffness.or(default_bending),
             resolution: opts.resolution,
             tets: opts.tets,
+            diagonals: opts.diagonals,
             gravity: opts.gravity,
         })
     }
@@ -184,6 +188,11 @@ impl SceneChoice {
         }
     }
 
+    /// Whether the current scene is a cloth grid (and so takes [`Diagonals`]).
+    pub fn is_cloth(&self) -> bool {
+        self.name().starts_with("cloth")
+    }
+
     /// The materials the current scene takes.
     pub fn materials(&self) -> &'static [MaterialChoice] {
         if self.solid { &MaterialChoice::SOLID } else { &MaterialChoice::CLOTH }
@@ -199,6 +208,7 @@ impl SceneChoice {
             young: self.young,
             poisson: self.poisson,
             tets: if self.solid { self.tets } else { TetMode::Volume },
+            diagonals: if self.is_cloth() { self.diagonals } else { Diagonals::Uniform },
             ..SceneOptions::default()
         };
         match self.material {

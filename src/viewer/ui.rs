@@ -8,6 +8,7 @@ use super::plots::History;
 use super::session::{SceneInfo, Timings};
 use super::state::{ColorMode, MaterialChoice, ViewerState};
 use crate::constraints::Form;
+use crate::mesh::Diagonals;
 use crate::metrics::FrameStats;
 use crate::scene::{SCENES, TetMode};
 use crate::simulation::Backend;
@@ -107,6 +108,13 @@ fn scene_controls(ui: &mut Ui, state: &mut ViewerState) {
             ui.label("Tetrahedra");
             ui.radio_value(&mut c.tets, TetMode::Volume, "volume");
             ui.radio_value(&mut c.tets, TetMode::Centroid, "centroid");
+        });
+    }
+    if c.is_cloth() {
+        ui.horizontal(|ui| {
+            ui.label("Diagonals");
+            ui.radio_value(&mut c.diagonals, Diagonals::Uniform, "uniform");
+            ui.radio_value(&mut c.diagonals, Diagonals::Alternating, "alternating");
         });
     }
 }

@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use eapbd::coloring;
-use eapbd::mesh::{grid, unique_edges};
+use eapbd::mesh::{Diagonals, grid, unique_edges};
 use rand::{Rng, SeedableRng};
 
 /// One coloring case: the best time of some repetitions.
@@ -26,7 +26,7 @@ pub struct ColoringRow {
 /// The grid edges of a 578×578 cloth (999,941 edges) and a random graph of 1,000,000 edges over
 /// 200,000 particles, each colored `reps` times.
 pub fn run(reps: u32) -> Vec<ColoringRow> {
-    let cloth = grid(578, 1.0, 0.0);
+    let cloth = grid(578, 1.0, 0.0, Diagonals::Uniform);
     let edges = unique_edges(&cloth.triangles);
     let mut out = vec![case("cloth grid edges (578×578 grid)", cloth.positions.len(), &edges, reps)];
     let mut rng = rand::rngs::SmallRng::seed_from_u64(7);
