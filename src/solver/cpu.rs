@@ -20,14 +20,10 @@ use super::{Method, Particles, Settings};
 
 mod choice;
 mod plan;
+mod pool;
 mod team;
 
-/// The machine's cores (asked once: the query allocates). A team waits at barriers for a thread
-/// the system has not scheduled, so the solver never runs more threads than cores.
-fn cores() -> u32 {
-    static CORES: std::sync::OnceLock<u32> = std::sync::OnceLock::new();
-    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()) as u32)
-}
+use pool::cores;
 
 /// Per-family solver state: one multiplier per constraint, Jacobi's per-constraint scale, and
 /// the local mode's energy at the start of the substep.
@@ -173,7 +169,7 @@ impl<V: Vector> CpuSolver<V> {
     /// stays the same; `None`, one thread, if the system refuses the threads).
     fn thread_pool(&mut self, threads: u32) -> Option<Arc<rayon::ThreadPool>> {
         if self.pool.as_ref().is_none_or(|(n, _)| *n != threads) {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads as usize).build().ok()?;
+            let pool = pool::build(threads)?;
             self.pool = Some((threads, Arc::new(pool)));
         }
         self.pool.as_ref().map(|(_, p)| p.clone())

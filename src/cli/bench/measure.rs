@@ -11,7 +11,7 @@ use eapbd::solver::{CpuSolver, Method};
 use glam::Vec3A;
 
 use super::cases::{Backend, Case};
-use super::timing::{Budget, Timing, time_frames};
+use super::timing::{Budget, Timing, time_frames, time_interleaved};
 
 /// Memory a solver holds for a scene (bytes).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -108,17 +108,37 @@ fn row(case: &Case, scene: &Scene, backend: Backend) -> Row {
     }
 }
 
-/// Times `case` on the CPU solver (`backend` picks the thread count).
-pub fn cpu_row(case: &Case, scene: Scene, backend: Backend, budget: &Budget) -> anyhow::Result<Row> {
-    let mut r = row(case, &scene, backend);
-    let s = case.settings(backend);
-    let mut solver = CpuSolver::<Vec3A>::new(scene);
-    r.timing = time_frames(budget, || {
-        solver.step_frame(&s);
-        Ok(())
-    })?;
-    r.memory = cpu_memory(&solver, case.method);
-    Ok(r)
+/// Times `case` on the CPU solver on each of `backends` (which pick the thread count), in turns
+/// of a few frames ([`time_interleaved`]), so that one thread and every core are measured under
+/// the same conditions; one row per backend, in order.
+pub fn cpu_rows(case: &Case, scene: &Scene, backends: &[Backend], budget: &Budget) -> anyhow::Result<Vec<Row>> {
+    let mut runs: Vec<_> = backends
+        .iter()
+        .map(|&b| (row(case, scene, b), case.settings(b), CpuSolver::<Vec3A>::new(scene.clone())))
+        .collect();
+    let mut frames: Vec<_> = runs
+        .iter_mut()
+        .map(|(_, s, solver)| {
+            move || -> anyhow::Result<()> {
+                solver.step_frame(s);
+                Ok(())
+            }
+        })
+        .collect();
+    let mut refs: Vec<&mut dyn FnMut() -> anyhow::Result<()>> =
+        frames.iter_mut().map(|f| f as &mut dyn FnMut() -> anyhow::Result<()>).collect();
+    let timings = time_interleaved(budget, &mut refs)?;
+    drop(refs);
+    drop(frames);
+    Ok(runs
+        .into_iter()
+        .zip(timings)
+        .map(|((mut r, _, solver), timing)| {
+            r.timing = timing;
+            r.memory = cpu_memory(&solver, case.method);
+            r
+        })
+        .collect())
 }
 
 /// The arrays the CPU solver works on (bytes, from their lengths): particle state (`x`,

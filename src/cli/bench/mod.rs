@@ -56,9 +56,13 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     for (c, case) in plan.cases.iter().enumerate() {
         bar.set_message(format!("building {}", case.label));
         let scene = scene::build(case.scene, &case.opts)?;
-        for (b, &backend) in case.backends.iter().enumerate().filter(|(_, b)| **b != Backend::Gpu) {
-            bar.set_message(format!("{} ({} constraints) on {}", case.label, scene.num_constraints(), backend.name()));
-            rows.push((c, b, measure::cpu_row(case, scene.clone(), backend, &plan.budget)?));
+        let cpu: Vec<(usize, Backend)> =
+            case.backends.iter().copied().enumerate().filter(|(_, b)| *b != Backend::Gpu).collect();
+        let names: Vec<&str> = cpu.iter().map(|(_, b)| b.name()).collect();
+        bar.set_message(format!("{} ({} constraints) on {}", case.label, scene.num_constraints(), names.join(" and ")));
+        let backends: Vec<Backend> = cpu.iter().map(|(_, b)| *b).collect();
+        for ((b, _), row) in cpu.iter().zip(measure::cpu_rows(case, &scene, &backends, &plan.budget)?) {
+            rows.push((c, *b, row));
             bar.inc(1);
         }
         scenes.push(scene);
@@ -66,11 +70,9 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
 
     let mut splits = Vec::new();
     for &(iterations, substeps) in &plan.splits {
-        for backend in [Backend::CpuSingle, Backend::CpuAll] {
-            bar.set_message(format!("peer scene {iterations} × {substeps} on {}", backend.name()));
-            splits.push(peer::run_split(iterations, substeps, backend, plan.peer_frames)?);
-            bar.inc(1);
-        }
+        bar.set_message(format!("peer scene {iterations} × {substeps}"));
+        splits.extend(peer::run_split(iterations, substeps, &[Backend::CpuSingle, Backend::CpuAll], plan.peer_frames)?);
+        bar.inc(2);
     }
 
     let gpu = if a.cpu_only {

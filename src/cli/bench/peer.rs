@@ -9,6 +9,7 @@ use eapbd::solver::{CpuSolver, Settings};
 use glam::Vec3A;
 
 use super::cases::{Backend, peer_options};
+use super::timing::BLOCK_FRAMES;
 
 /// One split of the peer scene on one CPU backend.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,31 +31,43 @@ pub struct Split {
     pub stretch_all: f64,
 }
 
-/// Simulates the peer scene for `frames` frames at `iterations × substeps` on `backend`.
-pub fn run_split(iterations: u32, substeps: u32, backend: Backend, frames: u32) -> anyhow::Result<Split> {
+/// Simulates the peer scene for `frames` frames at `iterations × substeps` on each of
+/// `backends`, [`BLOCK_FRAMES`] frames each in turn (so a change in the machine's speed falls on
+/// all alike); one split per backend, in order.
+pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u32) -> anyhow::Result<Vec<Split>> {
     let scene = scene::build("cloth", &peer_options())?;
     let (grid, grid_rest) = metrics::axis_aligned_edges(&scene);
-    let mut sv = CpuSolver::<Vec3A>::new(scene);
-    let s = Settings { iterations, substeps, threads: backend.threads(), ..Settings::default() };
-    let (mut ms, mut stretch_grid, mut stretch_all) = (0.0, 0.0, 0.0);
-    for _ in 0..frames {
-        let t0 = Instant::now();
-        sv.step_frame(&s);
-        ms += t0.elapsed().as_secs_f64() * 1e3;
-        let x = &sv.particles.x;
-        stretch_grid += metrics::stretch(&grid, &grid_rest, x).0;
-        stretch_all += metrics::stretch(&sv.scene().edges, &sv.scene().edge_rest, x).0;
+    let mut runs: Vec<_> = backends
+        .iter()
+        .map(|&backend| {
+            let s = Settings { iterations, substeps, threads: backend.threads(), ..Settings::default() };
+            let split =
+                Split { iterations, substeps, backend, frames, mean_ms: 0.0, stretch_grid: 0.0, stretch_all: 0.0 };
+            (CpuSolver::<Vec3A>::new(scene.clone()), s, split)
+        })
+        .collect();
+    for first in (0..frames).step_by(BLOCK_FRAMES) {
+        for (sv, s, split) in &mut runs {
+            for _ in first..(first + BLOCK_FRAMES as u32).min(frames) {
+                let t0 = Instant::now();
+                sv.step_frame(s);
+                split.mean_ms += t0.elapsed().as_secs_f64() * 1e3;
+                let x = &sv.particles.x;
+                split.stretch_grid += metrics::stretch(&grid, &grid_rest, x).0;
+                split.stretch_all += metrics::stretch(&sv.scene().edges, &sv.scene().edge_rest, x).0;
+            }
+        }
     }
     let n = frames.max(1) as f64;
-    Ok(Split {
-        iterations,
-        substeps,
-        backend,
-        frames,
-        mean_ms: ms / n,
-        stretch_grid: stretch_grid / n,
-        stretch_all: stretch_all / n,
-    })
+    Ok(runs
+        .into_iter()
+        .map(|(_, _, s)| Split {
+            mean_ms: s.mean_ms / n,
+            stretch_grid: s.stretch_grid / n,
+            stretch_all: s.stretch_all / n,
+            ..s
+        })
+        .collect())
 }
 
 /// The split with the smallest grid stretch on `backend` (the most accurate).

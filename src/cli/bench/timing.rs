@@ -50,6 +50,58 @@ pub fn time_frames(b: &Budget, mut frame: impl FnMut() -> anyhow::Result<()>) ->
     Ok(Timing { frames: t.len() as u32, median_ms: median(&mut t) })
 }
 
+/// Frames of one configuration run back to back before the next takes its turn, at most.
+pub const BLOCK_FRAMES: usize = 10;
+/// A turn ends early after this long (s), so a slow configuration does not hold the others off.
+const BLOCK_SECONDS: f64 = 0.05;
+
+/// Times several configurations of one case in turn, [`BLOCK_FRAMES`] frames (or
+/// [`BLOCK_SECONDS`]) each, round after round, so that a change in the machine's speed during the
+/// measurement (a virtual machine's host at work) falls on all of them alike: each warms up as
+/// in [`time_frames`], then every configuration takes its turns until each has `b.frames`, or until
+/// each has `b.min_frames` and `b.seconds` per configuration have passed. Returns one timing per
+/// configuration, in order.
+pub fn time_interleaved(
+    b: &Budget,
+    frames: &mut [&mut dyn FnMut() -> anyhow::Result<()>],
+) -> anyhow::Result<Vec<Timing>> {
+    for frame in frames.iter_mut() {
+        let start = Instant::now();
+        for i in 0..b.warm_frames.max(1) {
+            if i > 0 && start.elapsed().as_secs_f64() >= b.warm_seconds {
+                break;
+            }
+            frame()?;
+        }
+    }
+    let (want, least) = (b.frames.max(1) as usize, b.min_frames.max(1) as usize);
+    let limit = b.seconds * frames.len() as f64;
+    let start = Instant::now();
+    let mut t: Vec<Vec<f64>> = frames.iter().map(|_| Vec::with_capacity(want)).collect();
+    loop {
+        let done = |t: &Vec<Vec<f64>>| {
+            t.iter().all(|t| t.len() >= want)
+                || (t.iter().all(|t| t.len() >= least) && start.elapsed().as_secs_f64() >= limit)
+        };
+        if done(&t) {
+            break;
+        }
+        for (frame, t) in frames.iter_mut().zip(&mut t) {
+            let turn = Instant::now();
+            for _ in 0..BLOCK_FRAMES {
+                let enough = turn.elapsed().as_secs_f64() >= BLOCK_SECONDS || start.elapsed().as_secs_f64() >= limit;
+                if t.len() >= want || (t.len() >= least && enough) {
+                    break;
+                }
+                let t0 = Instant::now();
+                frame()?;
+                t.push(t0.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+    Ok(t.iter_mut().map(|t| Timing { frames: t.len() as u32, median_ms: median(t) }).collect())
+}
+
 /// The median of `t` (the mean of the two middle values for an even count; NaN when empty).
 pub fn median(t: &mut [f64]) -> f64 {
     if t.is_empty() {
@@ -62,6 +114,8 @@ pub fn median(t: &mut [f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    use std::cell::RefCell;
+
     use super::*;
 
     #[test]
@@ -90,5 +144,33 @@ mod tests {
         })
         .unwrap();
         assert_eq!((t.frames, calls), (2, 3));
+    }
+
+    /// A frame that only writes `name` to `log`.
+    fn recorder(log: &RefCell<Vec<char>>, name: char) -> impl FnMut() -> anyhow::Result<()> + '_ {
+        move || {
+            log.borrow_mut().push(name);
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn interleaved_configurations_take_turns_in_blocks() {
+        let b = Budget { warm_frames: 2, warm_seconds: 10.0, frames: 25, min_frames: 2, seconds: 10.0 };
+        let log = RefCell::new(Vec::new());
+        let (mut a, mut c) = (recorder(&log, 'a'), recorder(&log, 'c'));
+        let t = time_interleaved(&b, &mut [&mut a, &mut c]).unwrap();
+        assert_eq!(t.iter().map(|t| t.frames).collect::<Vec<_>>(), [25, 25]);
+        let log: String = log.borrow().iter().collect();
+        // Warm-up of each, then blocks of ten in turn until each has its 25.
+        let blocks = ["aa", "cc", &"a".repeat(10), &"c".repeat(10), &"a".repeat(10), &"c".repeat(10), "aaaaa", "ccccc"];
+        assert_eq!(log, blocks.concat());
+        // A zero time limit measures `min_frames` of each.
+        let b = Budget { seconds: 0.0, warm_seconds: 0.0, ..b };
+        let log = RefCell::new(Vec::new());
+        let (mut a, mut c) = (recorder(&log, 'a'), recorder(&log, 'c'));
+        let t = time_interleaved(&b, &mut [&mut a, &mut c]).unwrap();
+        let log: String = log.borrow().iter().collect();
+        assert_eq!((t[0].frames, t[1].frames, log.as_str()), (2, 2, "acaacc"));
     }
 }
