@@ -51,15 +51,19 @@ pub fn time_frames(b: &Budget, mut frame: impl FnMut() -> anyhow::Result<()>) ->
 }
 
 /// Frames of one configuration run back to back before the next takes its turn, at most.
-pub const BLOCK_FRAMES: usize = 10;
+pub const BLOCK_FRAMES: usize = 40;
 /// A turn ends early after this long (s), so a slow configuration does not hold the others off.
-const BLOCK_SECONDS: f64 = 0.05;
+const BLOCK_SECONDS: f64 = 1.0;
+/// Frames run unmeasured at the start of every turn after the first: a team whose cores were
+/// idle during another configuration's turn starts slowly.
+const TURN_WARM_FRAMES: usize = 2;
 
 /// Times several configurations of one case in turn, [`BLOCK_FRAMES`] frames (or
 /// [`BLOCK_SECONDS`]) each, round after round, so that a change in the machine's speed during the
 /// measurement (a virtual machine's host at work) falls on all of them alike: each warms up as
-/// in [`time_frames`], then every configuration takes its turns until each has `b.frames`, or until
-/// each has `b.min_frames` and `b.seconds` per configuration have passed. Returns one timing per
+/// in [`time_frames`], then every configuration takes its turns (each turn after the first
+/// opening with [`TURN_WARM_FRAMES`] unmeasured frames) until each has `b.frames`, or until each
+/// has `b.min_frames` and `b.seconds` per configuration have passed. Returns one timing per
 /// configuration, in order.
 pub fn time_interleaved(
     b: &Budget,
@@ -87,6 +91,11 @@ pub fn time_interleaved(
             break;
         }
         for (frame, t) in frames.iter_mut().zip(&mut t) {
+            if !t.is_empty() && t.len() < want {
+                for _ in 0..TURN_WARM_FRAMES {
+                    frame()?;
+                }
+            }
             let turn = Instant::now();
             for _ in 0..BLOCK_FRAMES {
                 let enough = turn.elapsed().as_secs_f64() >= BLOCK_SECONDS || start.elapsed().as_secs_f64() >= limit;
@@ -162,9 +171,16 @@ mod tests {
         let t = time_interleaved(&b, &mut [&mut a, &mut c]).unwrap();
         assert_eq!(t.iter().map(|t| t.frames).collect::<Vec<_>>(), [25, 25]);
         let log: String = log.borrow().iter().collect();
-        // Warm-up of each, then blocks of ten in turn until each has its 25.
-        let blocks = ["aa", "cc", &"a".repeat(10), &"c".repeat(10), &"a".repeat(10), &"c".repeat(10), "aaaaa", "ccccc"];
-        assert_eq!(log, blocks.concat());
+        // Warm-up of each, then turns of (up to) 40 frames until each has its 25.
+        assert_eq!(log, ["aa", "cc", &"a".repeat(25), &"c".repeat(25)].concat());
+        // With 50 wanted, the second turns open with two unmeasured frames.
+        let b = Budget { frames: 50, ..b };
+        let log = RefCell::new(Vec::new());
+        let (mut a, mut c) = (recorder(&log, 'a'), recorder(&log, 'c'));
+        time_interleaved(&b, &mut [&mut a, &mut c]).unwrap();
+        let log: String = log.borrow().iter().collect();
+        let turns = ["aa", "cc", &"a".repeat(40), &"c".repeat(40), &"a".repeat(12), &"c".repeat(12)];
+        assert_eq!(log, turns.concat());
         // A zero time limit measures `min_frames` of each.
         let b = Budget { seconds: 0.0, warm_seconds: 0.0, ..b };
         let log = RefCell::new(Vec::new());
