@@ -82,7 +82,8 @@ pub struct Settings {
     /// of at least [`PARALLEL_MIN_GROUP`] elements (Gauss-Seidel and Jacobi, in either form and
     /// every energy-aware mode). The result is the
     /// same for any count: the elements of a group share no particle, and two elements that share
-    /// one are visited in the order of their groups. The GPU backend ignores it.
+    /// one are visited in the order of their groups. A team over every core the process may use
+    /// has its threads pinned one per core. The GPU backend ignores it.
     pub threads: u32,
 }
 
