@@ -212,6 +212,11 @@ pub fn uses_tets(name: &str, body: Option<Body>) -> bool {
     }
 }
 
+/// Whether scene `name` is a cloth grid (and so takes [`Diagonals`]).
+pub fn is_cloth(name: &str) -> bool {
+    matches!(name, "cloth" | "cloth-paper" | "cloth-sphere" | "cloth-free")
+}
+
 /// Builds the scene called `name`.
 pub fn build(name: &str, opts: &SceneOptions) -> Result<Scene> {
     build_from(name, opts, None)

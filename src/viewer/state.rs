@@ -190,7 +190,7 @@ impl SceneChoice {
 
     /// Whether the current scene is a cloth grid (and so takes [`Diagonals`]).
     pub fn is_cloth(&self) -> bool {
-        self.name().starts_with("cloth")
+        scene::is_cloth(self.name())
     }
 
     /// The materials the current scene takes.

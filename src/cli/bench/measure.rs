@@ -125,10 +125,7 @@ pub fn cpu_rows(case: &Case, scene: &Scene, backends: &[Backend], budget: &Budge
             }
         })
         .collect();
-    let mut refs: Vec<&mut dyn FnMut() -> anyhow::Result<()>> =
-        frames.iter_mut().map(|f| f as &mut dyn FnMut() -> anyhow::Result<()>).collect();
-    let timings = time_interleaved(budget, &mut refs)?;
-    drop(refs);
+    let timings = time_interleaved(budget, &mut frames)?;
     drop(frames);
     Ok(runs
         .into_iter()

@@ -56,13 +56,13 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     for (c, case) in plan.cases.iter().enumerate() {
         bar.set_message(format!("building {}", case.label));
         let scene = scene::build(case.scene, &case.opts)?;
-        let cpu: Vec<(usize, Backend)> =
-            case.backends.iter().copied().enumerate().filter(|(_, b)| *b != Backend::Gpu).collect();
-        let names: Vec<&str> = cpu.iter().map(|(_, b)| b.name()).collect();
+        // The CPU backends, timed together; each row keeps its backend's index in the case.
+        let (index, backends): (Vec<usize>, Vec<Backend>) =
+            case.backends.iter().copied().enumerate().filter(|(_, b)| *b != Backend::Gpu).unzip();
+        let names: Vec<&str> = backends.iter().map(|b| b.name()).collect();
         bar.set_message(format!("{} ({} constraints) on {}", case.label, scene.num_constraints(), names.join(" and ")));
-        let backends: Vec<Backend> = cpu.iter().map(|(_, b)| *b).collect();
-        for ((b, _), row) in cpu.iter().zip(measure::cpu_rows(case, &scene, &backends, &plan.budget)?) {
-            rows.push((c, *b, row));
+        for (b, row) in index.into_iter().zip(measure::cpu_rows(case, &scene, &backends, &plan.budget)?) {
+            rows.push((c, b, row));
             bar.inc(1);
         }
         scenes.push(scene);

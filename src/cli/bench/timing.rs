@@ -30,13 +30,7 @@ pub struct Timing {
 /// Runs `frame` through the warm-up and the measured frames of `b`; each call is one whole frame,
 /// waited for.
 pub fn time_frames(b: &Budget, mut frame: impl FnMut() -> anyhow::Result<()>) -> anyhow::Result<Timing> {
-    let start = Instant::now();
-    for i in 0..b.warm_frames.max(1) {
-        if i > 0 && start.elapsed().as_secs_f64() >= b.warm_seconds {
-            break;
-        }
-        frame()?;
-    }
+    warm_up(b, &mut frame)?;
     let start = Instant::now();
     let mut t = Vec::with_capacity(b.frames as usize);
     while (t.len() as u32) < b.frames.max(1) {
@@ -48,6 +42,18 @@ pub fn time_frames(b: &Budget, mut frame: impl FnMut() -> anyhow::Result<()>) ->
         t.push(t0.elapsed().as_secs_f64() * 1e3);
     }
     Ok(Timing { frames: t.len() as u32, median_ms: median(&mut t) })
+}
+
+/// The warm-up of `b`: at least one frame, at most `b.warm_frames` or `b.warm_seconds`.
+fn warm_up(b: &Budget, frame: &mut impl FnMut() -> anyhow::Result<()>) -> anyhow::Result<()> {
+    let start = Instant::now();
+    for i in 0..b.warm_frames.max(1) {
+        if i > 0 && start.elapsed().as_secs_f64() >= b.warm_seconds {
+            break;
+        }
+        frame()?;
+    }
+    Ok(())
 }
 
 /// Frames of one configuration run back to back before the next takes its turn, at most.
@@ -65,18 +71,9 @@ const TURN_WARM_FRAMES: usize = 2;
 /// opening with [`TURN_WARM_FRAMES`] unmeasured frames) until each has `b.frames`, or until each
 /// has `b.min_frames` and `b.seconds` per configuration have passed. Returns one timing per
 /// configuration, in order.
-pub fn time_interleaved(
-    b: &Budget,
-    frames: &mut [&mut dyn FnMut() -> anyhow::Result<()>],
-) -> anyhow::Result<Vec<Timing>> {
+pub fn time_interleaved(b: &Budget, frames: &mut [impl FnMut() -> anyhow::Result<()>]) -> anyhow::Result<Vec<Timing>> {
     for frame in frames.iter_mut() {
-        let start = Instant::now();
-        for i in 0..b.warm_frames.max(1) {
-            if i > 0 && start.elapsed().as_secs_f64() >= b.warm_seconds {
-                break;
-            }
-            frame()?;
-        }
+        warm_up(b, frame)?;
     }
     let (want, least) = (b.frames.max(1) as usize, b.min_frames.max(1) as usize);
     let limit = b.seconds * frames.len() as f64;
