@@ -64,15 +64,51 @@ impl<V> SharedPositions<'_, V> {
 impl<V: Copy> Positions<V> for SharedPositions<'_, V> {
     #[inline(always)]
     fn get(&self, i: usize) -> V {
-        assert!(i < self.len, "particle index {i} out of range");
+        if i >= self.len {
+            out_of_range(i, self.len);
+        }
         // SAFETY: in bounds (checked above); no other worker writes index `i` (module docs).
         unsafe { *self.ptr.add(i) }
     }
 
     #[inline(always)]
     fn set(&mut self, i: usize, v: V) {
-        assert!(i < self.len, "particle index {i} out of range");
+        if i >= self.len {
+            out_of_range(i, self.len);
+        }
         // SAFETY: in bounds (checked above); only this worker touches index `i` (module docs).
         unsafe { *self.ptr.add(i) = v }
+    }
+}
+
+/// The panic of an index past the end, kept out of line: a formatted `assert!` in `get` and `set`
+/// put its panic code inside every gather and scatter of the kernels, which made the team's sweeps
+/// about a quarter slower than the same kernels on a slice.
+#[cold]
+#[inline(never)]
+fn out_of_range(i: usize, len: usize) -> ! {
+    panic!("particle index {i} out of range 0..{len}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_and_writes_in_bounds() {
+        let mut x = [1.0f32, 2.0, 3.0];
+        let mut s = SharedPositions::new(&mut x);
+        s.set(2, s.get(0) + s.get(1) + 7.0);
+        assert_eq!(s.read_all(), &[1.0, 2.0, 10.0]);
+        s.set(0, 5.0);
+        assert_eq!(x, [5.0, 2.0, 10.0]);
+    }
+
+    #[test]
+    #[should_panic(expected = "particle index 3 out of range 0..3")]
+    fn an_index_past_the_end_panics() {
+        let mut x = [0.0f32; 3];
+        let s = SharedPositions::new(&mut x);
+        let _ = s.get(3);
     }
 }
