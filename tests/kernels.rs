@@ -1,7 +1,7 @@
 //! The lean in-place kernels of the CPU solver (scalar and SIMD, `SIMD_WIDTH` lanes) against the general XPBD
 //! update, the fast `f32` `atan2` against the library, and the team of threads against one thread.
 
-use eapbd::constraints::{Bend, BendParams, Element, SIMD_WIDTH, Spring, SpringMaterial, SpringParams};
+use eapbd::constraints::{Bend, BendParams, Element, SIMD_WIDTH, Spring, SpringMaterial, SpringParams, lane_masses};
 use eapbd::math::Real;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings, delta_lambda};
@@ -53,8 +53,10 @@ fn case(rng: &mut SmallRng, n: usize, place: impl Fn(&mut SmallRng, usize) -> Ve
 fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E::Params, c: &Case, rel: f32) {
     let (mut xg, mut xs, mut xv) = (c.x.clone(), c.x.clone(), c.x.clone());
     let (mut lg, mut ls, mut lv) = (c.lambda, c.lambda, c.lambda);
-    let declined =
-        if E::PLAIN_WIDE { E::project_plain_wide(es, p, &mut xv[..], &c.w, &mut lv, INV_H2, 1.0) } else { 0 };
+    // The inverse masses slot by slot, as the solver hands them to the SIMD kernels.
+    let wl = lane_masses(es, &c.w);
+    let wl: [&[f32]; N] = std::array::from_fn(|n| &wl[n * SIMD_WIDTH..(n + 1) * SIMD_WIDTH]);
+    let declined = if E::PLAIN_WIDE { E::project_plain_wide(es, p, &mut xv[..], wl, &mut lv, INV_H2, 1.0) } else { 0 };
     for (l, e) in es.iter().enumerate() {
         general(e, p, &mut xg, &c.w, &mut lg[l]);
         let done = e.project_plain(p, &mut xs[..], &c.w, &mut ls[l], INV_H2, 1.0);
@@ -73,7 +75,7 @@ fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E:
         // The padded storage the solver runs on (one 16-byte load and store per particle).
         let mut xa: Vec<Vec3A> = c.x.iter().map(|&p| p.into()).collect();
         let mut la = c.lambda;
-        let declined_a = E::project_plain_wide(es, p, &mut xa[..], &c.w, &mut la, INV_H2, 1.0);
+        let declined_a = E::project_plain_wide(es, p, &mut xa[..], wl, &mut la, INV_H2, 1.0);
         assert_eq!(declined_a, 0, "{what}: padded lanes declined");
         let xa: Vec<Vec3> = xa.into_iter().map(Vec3::from).collect();
         assert_eq!(xa, xv, "{what}: padded SIMD positions differ");
@@ -272,4 +274,38 @@ fn positions_after(scene: &eapbd::scene::Scene, settings: Settings, frames: usiz
         s.step_frame(&settings);
     }
     s.particles.x
+}
+
+/// The SIMD kernels take the inverse masses from the solver's copy, slot by slot: a particle pinned
+/// or freed between frames (the particles are public) must reach them, on one thread and on the
+/// team.
+#[test]
+fn masses_changed_between_frames_reach_the_simd_kernels() {
+    let n = 32;
+    let scene = scene::build("cloth", &SceneOptions { resolution: Some(n), ..SceneOptions::default() }).expect("cloth");
+    for threads in [1, 2] {
+        let mut sv = CpuSolver::<Vec3A>::new(scene.clone());
+        let s = Settings { threads, ..Settings::default() };
+        for _ in 0..5 {
+            sv.step_frame(&s);
+        }
+        let middle = (n / 2 * n + n / 2) as usize;
+        let w_free = sv.particles.w[middle];
+        assert!(w_free > 0.0);
+        sv.particles.w[middle] = 0.0;
+        sv.particles.v[middle] = Vec3A::ZERO;
+        let at = sv.particles.x[middle];
+        for _ in 0..10 {
+            sv.step_frame(&s);
+        }
+        assert_eq!(sv.particles.x[middle], at, "threads {threads}: a particle pinned between frames moved");
+        let corner = (0..sv.particles.w.len()).find(|&j| j != middle && sv.particles.w[j] == 0.0).expect("a pin");
+        sv.particles.w[corner] = w_free;
+        let before = sv.particles.x[corner];
+        for _ in 0..10 {
+            sv.step_frame(&s);
+        }
+        let moved = (sv.particles.x[corner] - before).length();
+        assert!(moved > 1e-3, "threads {threads}: a particle freed between frames moved only {moved} m");
+    }
 }

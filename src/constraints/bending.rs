@@ -181,7 +181,7 @@ impl Element<4> for Bend {
         elems: &[Self],
         _: &BendParams,
         x: &mut P,
-        w: &[V::S],
+        w: [&[f32]; 4],
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
@@ -191,12 +191,7 @@ impl Element<4> for Bend {
         let idx = simd::slots(el);
         let xs =
             [simd::gather(x, &idx[0]), simd::gather(x, &idx[1]), simd::gather(x, &idx[2]), simd::gather(x, &idx[3])];
-        let ws = [
-            simd::lanes_at(w, &idx[0]),
-            simd::lanes_at(w, &idx[1]),
-            simd::lanes_at(w, &idx[2]),
-            simd::lanes_at(w, &idx[3]),
-        ];
+        let ws = w.map(simd::load);
         let e = xs[1] - xs[0];
         let (a, b) = (xs[2] - xs[0], xs[3] - xs[0]);
         let n1 = e.cross(a);

@@ -113,6 +113,8 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
 
     /// [`Element::project_plain`] for [`SIMD_WIDTH`] elements of one color group at once, one per
     /// SIMD lane (called for `f32` only: `elems` and `lambda` hold exactly [`SIMD_WIDTH`]).
+    /// `w[n][l]` is the inverse mass (1/kg) of particle `n` of element `l` (slot by slot, so each
+    /// slot's masses load as one vector; [`lane_masses`]).
     /// Returns a mask of the lanes it declined (bit `l` set: element `l` left unchanged for the
     /// scalar path).
     #[inline(always)]
@@ -120,13 +122,27 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
         _elems: &[Self],
         _p: &Self::Params,
         _x: &mut P,
-        _w: &[V::S],
+        _w: [&[f32]; N],
         _lambda: &mut [V::S],
         _inv_h2: V::S,
         _sor: V::S,
     ) -> u32 {
         (1 << SIMD_WIDTH) - 1
     }
+}
+
+/// The inverse masses `w` (1/kg) of the particles of `elements`, slot by slot: entry `n · len + j`
+/// is `w` of particle `n` of element `j`, `len = elements.len()` (what
+/// [`Element::project_plain_wide`] loads, one vector per slot).
+pub fn lane_masses<E: Element<N>, S: crate::math::Real, const N: usize>(elements: &[E], w: &[S]) -> Vec<f32> {
+    let len = elements.len();
+    let mut out = vec![0.0; N * len];
+    for (j, e) in elements.iter().enumerate() {
+        for (n, p) in e.particles().into_iter().enumerate() {
+            out[n * len + j] = w[p as usize].to_f64() as f32;
+        }
+    }
+    out
 }
 
 /// Read and write access to particle positions for the in-place kernels: a plain slice, or the

@@ -108,10 +108,11 @@ pub(crate) fn lanes<S: Real>(v: &[S]) -> Lanes {
     per_lane(|l| v[l].to_f64() as f32)
 }
 
-/// `v[idx[l]]` in lane `l` (the inverse masses of one particle slot).
+/// The first [`WIDTH`] values of `v` as lanes, in one load.
 #[inline(always)]
-pub(crate) fn lanes_at<S: Real>(v: &[S], idx: &[usize; WIDTH]) -> Lanes {
-    per_lane(|l| v[idx[l]].to_f64() as f32)
+pub(crate) fn load(v: &[f32]) -> Lanes {
+    let a: [f32; WIDTH] = v[..WIDTH].try_into().expect("one value per lane");
+    Lanes::from(a)
 }
 
 /// The particle indices of `el` by slot: `slots(el)[n][l]` is particle `n` of element `l`.

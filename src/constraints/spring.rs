@@ -178,7 +178,7 @@ impl Element<2> for Spring {
         elems: &[Self],
         p: &SpringParams,
         x: &mut P,
-        w: &[V::S],
+        w: [&[f32]; 2],
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
@@ -191,7 +191,7 @@ impl Element<2> for Spring {
         let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
         let [ia, ib] = simd::slots(el);
         let (xa, xb) = (simd::gather(x, &ia), simd::gather(x, &ib));
-        let (wa, wb) = (simd::lanes_at(w, &ia), simd::lanes_at(w, &ib));
+        let (wa, wb) = (simd::load(w[0]), simd::load(w[1]));
         let d = xb - xa;
         let len = d.length_squared().sqrt();
         let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / per_lane(|l| el[l].k);

@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use crate::constraints::SIMD_WIDTH;
 use crate::constraints::simd::is_f32;
-use crate::constraints::{Element, Form, Positions, gather};
+use crate::constraints::{Element, Form, Positions, gather, lane_masses};
 use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
@@ -34,6 +34,11 @@ struct FamilyState<S> {
     energy_start: Vec<S>,
     /// The family's color groups share no particle, so threads may split them.
     disjoint: bool,
+    /// The inverse masses of the elements' particles slot by slot ([`lane_masses`]), for the SIMD
+    /// kernels: `f32` families that have them only, else empty. Kept in step with
+    /// [`Particles::w`] at the start of every frame of plain Gauss-Seidel
+    /// ([`CpuSolver::refresh_lane_masses`]).
+    w_lanes: Vec<f32>,
 }
 
 /// The local mode's snapshots of the positions at the start of the current and the previous
@@ -93,6 +98,8 @@ pub struct CpuSolver<V: Vector> {
     /// Jacobi on the team: where each element's corrections go, and the corrections (built on
     /// first use).
     jacobi_slots: Option<(jacobi::Slots, Vec<V>)>,
+    /// The inverse masses the families' `w_lanes` were taken from.
+    w_seen: Vec<V::S>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -120,6 +127,7 @@ impl<V: Vector> CpuSolver<V> {
             splittable,
             plan: None,
             jacobi_slots: None,
+            w_seen: Vec::new(),
             scene,
         }
     }
@@ -137,6 +145,9 @@ impl<V: Vector> CpuSolver<V> {
     /// Advances one frame of `settings.dt` (call [`Settings::validate`] first).
     pub fn step_frame(&mut self, s: &Settings) {
         let k = StepConstants::new(s);
+        if s.method == Method::GaussSeidel && k.plain() && s.energy_aware != EnergyAware::Local {
+            self.refresh_lane_masses();
+        }
         if s.method == Method::Jacobi {
             self.prepare_jacobi(s.jacobi_omega);
         }
@@ -163,6 +174,23 @@ impl<V: Vector> CpuSolver<V> {
             },
         }
         self.last = Some(k);
+    }
+
+    /// Takes the families' [`FamilyState::w_lanes`] again from [`Particles::w`] where it changed
+    /// since they were taken (the particles are public: a caller may pin or free one between
+    /// frames), in `f32` for the families with a SIMD kernel; before a frame that runs the lean
+    /// kernels (plain Gauss-Seidel), the only one that reads them.
+    fn refresh_lane_masses(&mut self) {
+        if !is_f32::<V::S>() || self.w_seen == self.particles.w {
+            return;
+        }
+        let w = &self.particles.w;
+        crate::for_each_family!(self.scene, |i, f| {
+            if family_has_wide(f) {
+                self.fam[i].w_lanes = lane_masses(&f.elements, w);
+            }
+        });
+        self.w_seen.clone_from(w);
     }
 
     /// The solver's pool of `threads` ≥ 2 threads (built on first use, kept while the count
@@ -234,7 +262,7 @@ impl<V: Vector> CpuSolver<V> {
                     crate::for_each_family!(self.scene, |i, f| {
                         let st = &mut self.fam[i];
                         let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-                        gauss_seidel(f, &mut st.lambda, &mut self.particles, k, ctx)
+                        gauss_seidel(f, &mut st.lambda, &st.w_lanes, &mut self.particles, k, ctx)
                     });
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
@@ -323,6 +351,14 @@ impl<V: Vector> CpuSolver<V> {
     /// Multipliers of the last substep, per family in solve order.
     pub fn lambdas(&self) -> Lambdas<'_, V::S> {
         std::array::from_fn(|i| self.fam[i].lambda.as_slice())
+    }
+
+    /// Bytes held by the SIMD kernels' copy of the inverse masses: `(per particle, per element)`,
+    /// the masses it was taken from (4 bytes a particle) and the copy by slot (4 bytes per particle
+    /// of an element with a SIMD kernel); none before a frame of plain Gauss-Seidel.
+    pub fn lane_mass_bytes(&self) -> (usize, usize) {
+        let lanes: usize = self.fam.iter().map(|st| st.w_lanes.len() * 4).sum();
+        (self.w_seen.len() * size_of::<V::S>(), lanes)
     }
 
     /// Constants of the last substep run, if any.
@@ -425,6 +461,7 @@ fn local_adjusted<V: Vector, const N: usize>(
 fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
+    w_lanes: &[f32],
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
@@ -434,7 +471,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
-        None if k.plain() => plain_sweep(f, lambda, &mut p.x, &p.x_prev, &p.w, k),
+        None if k.plain() => plain_sweep(f, lambda, w_lanes, &mut p.x, &p.x_prev, &p.w, k),
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }
@@ -446,6 +483,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
+    w_lanes: &[f32],
     x: &mut [V],
     x_prev: &[V],
     w: &[V::S],
@@ -453,11 +491,29 @@ fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
 ) {
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
-        plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, w, k);
+        let wl = slot_ranges(w_lanes, f.len(), lo..hi);
+        plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, (w, wl), k);
     }
 }
 
-/// [`plain_sweep`] over consecutive elements of one color group.
+/// `true` where the family's elements have a SIMD kernel ([`Element::PLAIN_WIDE`]).
+fn family_has_wide<E: Element<N>, const N: usize>(_: &Family<E, N>) -> bool {
+    E::PLAIN_WIDE
+}
+
+/// The slices of `w_lanes` (a family's [`FamilyState::w_lanes`], `len` elements) for its elements
+/// `range`, one per particle slot; empty slices where the family has none.
+#[inline]
+fn slot_ranges<const N: usize>(w_lanes: &[f32], len: usize, range: std::ops::Range<usize>) -> [&[f32]; N] {
+    std::array::from_fn(|n| match w_lanes.len() == N * len {
+        true => &w_lanes[n * len + range.start..n * len + range.end],
+        false => &[][..],
+    })
+}
+
+/// [`plain_sweep`] over consecutive elements of one color group: `w` the particles' inverse
+/// masses, `wl` those of the elements' particles slot by slot ([`slot_ranges`]; the SIMD
+/// kernels run where every slot has one per element).
 #[inline(always)]
 fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
     es: &[E],
@@ -465,7 +521,7 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
     params: &E::Params,
     x: &mut P,
     x_prev: &[V],
-    w: &[V::S],
+    (w, wl): (&[V::S], [&[f32]; N]),
     k: &StepConstants<V::S>,
 ) {
     let one = |e: &E, l: &mut V::S, x: &mut P| {
@@ -474,10 +530,11 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
         }
     };
     let mut j = 0;
-    if E::PLAIN_WIDE && is_f32::<V::S>() {
+    if E::PLAIN_WIDE && is_f32::<V::S>() && wl.iter().all(|s| s.len() == es.len()) {
         while j + SIMD_WIDTH <= es.len() {
             let (e, l) = (&es[j..j + SIMD_WIDTH], &mut ls[j..j + SIMD_WIDTH]);
-            let declined = E::project_plain_wide(e, params, x, w, l, k.inv_h2, k.sor);
+            let wj = wl.map(|s| &s[j..j + SIMD_WIDTH]);
+            let declined = E::project_plain_wide(e, params, x, wj, l, k.inv_h2, k.sor);
             for l in 0..SIMD_WIDTH {
                 if declined & (1 << l) != 0 {
                     one(&es[j + l], &mut ls[j + l], x);

@@ -140,15 +140,18 @@ pub fn cpu_rows(case: &Case, scene: &Scene, backends: &[Backend], budget: &Budge
 
 /// The arrays the CPU solver works on (bytes, from their lengths): particle state (`x`,
 /// `x_prev`, `v`, `w`), the elements of every family and one `f32` multiplier per constraint; with
-/// Jacobi also its per-constraint scale and per-particle correction.
+/// plain Gauss-Seidel the SIMD kernels' copy of the inverse masses
+/// ([`CpuSolver::lane_mass_bytes`]); with Jacobi its per-constraint scale and per-particle
+/// correction.
 pub fn cpu_memory(solver: &CpuSolver<Vec3A>, method: Method) -> Memory {
     let p = &solver.particles;
-    let mut particles = ((p.x.len() + p.x_prev.len() + p.v.len()) * size_of::<Vec3A>() + p.w.len() * 4) as u64;
+    let (seen, lanes) = solver.lane_mass_bytes();
+    let mut particles = ((p.x.len() + p.x_prev.len() + p.v.len()) * size_of::<Vec3A>() + p.w.len() * 4 + seen) as u64;
     let scene = solver.scene();
     let mut constraints = 0u64;
     eapbd::for_each_family!(scene, |_i, f| constraints += element_bytes(f));
     let m = scene.num_constraints() as u64;
-    constraints += m * size_of::<f32>() as u64;
+    constraints += m * size_of::<f32>() as u64 + lanes as u64;
     if method == Method::Jacobi {
         constraints += m * size_of::<f32>() as u64;
         particles += (p.len() * size_of::<Vec3A>()) as u64;

@@ -25,8 +25,8 @@ use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{
-    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, jacobi_element, local_adjusted, plain_chunk, start_energies,
-    total_energy, update,
+    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, jacobi_element, local_adjusted, plain_chunk, slot_ranges,
+    start_energies, total_energy, update,
 };
 use crate::constraints::Element;
 
@@ -54,6 +54,8 @@ struct Views<'a, V: Vector> {
     /// Jacobi's per-constraint scales and its corrections, one per slot ([`jacobi::Slots`]).
     jacobi_scale: [&'a [V::S]; FAMILY_COUNT],
     corr: SharedPositions<'a, V>,
+    /// Each family's inverse masses slot by slot, for the SIMD kernels.
+    w_lanes: [&'a [f32]; FAMILY_COUNT],
 }
 
 /// What one thread of the team is.
@@ -106,7 +108,7 @@ impl<V: Vector> CpuSolver<V> {
         let w = &p.w[..];
         let fam = self.fam.each_mut().map(|st| {
             let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
-            (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..])
+            (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..], &st.w_lanes[..])
         });
         let views = Views {
             x: SharedPositions::new(&mut p.x),
@@ -122,6 +124,7 @@ impl<V: Vector> CpuSolver<V> {
             energy_start: fam.map(|f| f.1),
             jacobi_scale: fam.map(|f| f.2),
             corr,
+            w_lanes: fam.map(|f| f.3),
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         // Thread 0's ledger; with the global balance it also computes the energies, alone.
@@ -207,6 +210,7 @@ impl<V: Vector> CpuSolver<V> {
                         let x_prev = v.x_prev.read_all();
                         let family = &plan.families[i];
                         let how = Sweep { plain, local: ctx(i) };
+                        let w = (w, v.w_lanes[i]);
                         team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
                     if let Some(parts) = &plan.contacts {
@@ -313,7 +317,7 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     mut lambda: SharedPositions<'_, V::S>,
     x: &mut SharedPositions<'_, V>,
     x_prev: &[V],
-    w: &[V::S],
+    (w, w_lanes): (&[V::S], &[f32]),
     k: &StepConstants<V::S>,
     me: &Member<'_>,
     family: &FamilyPlan,
@@ -331,7 +335,10 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
                     update(e, &f.params, l, x, x_prev, w, k, adjust);
                 }
             }
-            Sweep { plain: true, .. } => plain_chunk(es, ls, &f.params, x, x_prev, w, k),
+            Sweep { plain: true, .. } => {
+                let wl = slot_ranges(w_lanes, f.len(), start..start + es.len());
+                plain_chunk(es, ls, &f.params, x, x_prev, (w, wl), k)
+            }
             Sweep { plain: false, .. } => {
                 for (e, l) in es.iter().zip(ls) {
                     update(e, &f.params, l, x, x_prev, w, k, |_, _, c_val, _| c_val);
