@@ -74,10 +74,15 @@ fn cloth_matches_the_cpu_for_every_material_form_and_method() {
 fn substeps_damping_and_jacobi_match_the_cpu() {
     let ctx = context();
     let kernels = Arc::new(Kernels::new(&ctx.device));
+    // Through the swing down to just above the ground (25 frames): once the corners touch it,
+    // static friction makes the runs chaotic (a 1e-6 m nudge of one particle of the CPU run then
+    // moves the cloth by centimetres within 50 frames), which the contact test below allows for.
     let s = Settings { substeps: 2, iterations: 10, damping: 0.2, constraint_damping: 1e-3, ..Settings::default() };
     for method in [Method::GaussSeidel, Method::Jacobi] {
-        let (d, _) = compare(&ctx, &kernels, "cloth", SceneOptions::default(), &Settings { method, ..s }, 120);
-        println!("cloth 2x10 {method:?}: max distance {d:.3e} m");
+        let (d, x) = compare(&ctx, &kernels, "cloth", SceneOptions::default(), &Settings { method, ..s }, 25);
+        let lowest = x.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+        println!("cloth 2x10 {method:?}: max distance {d:.3e} m, lowest particle at {lowest:.3} m");
+        assert!(lowest > 0.05 && lowest < 0.9, "{method:?}: the cloth should have swung down, not landed");
         assert!(d < TOLERANCE, "cloth {method:?}: GPU and CPU differ by {d:.3e} m");
     }
 }
