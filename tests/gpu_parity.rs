@@ -45,6 +45,11 @@ fn compare(
     (worst, cpu.particles.positions())
 }
 
+/// Height of the lowest particle (m).
+fn lowest(x: &[Vec3]) -> f32 {
+    x.iter().map(|p| p.y).fold(f32::MAX, f32::min)
+}
+
 /// Tolerance on the particle distance (m), relative to the 1 m cloth: 1e-4.
 const TOLERANCE: f32 = 1e-4;
 
@@ -61,7 +66,7 @@ fn cloth_matches_the_cpu_for_every_material_form_and_method() {
                 let opts = SceneOptions { material, ..SceneOptions::default() };
                 let s = Settings { form, method, ..Settings::default() };
                 let (d, x) = compare(&ctx, &kernels, "cloth", opts, &s, 100);
-                let fell = 1.2 - x.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+                let fell = 1.2 - lowest(&x);
                 println!("{material:?} {form:?} {method:?}: max distance {d:.3e} m (cloth fell {fell:.2} m)");
                 assert!(fell > 0.3, "the scene barely moved");
                 assert!(d < TOLERANCE, "{material:?} {form:?} {method:?}: GPU and CPU differ by {d:.3e} m");
@@ -80,9 +85,9 @@ fn substeps_damping_and_jacobi_match_the_cpu() {
     let s = Settings { substeps: 2, iterations: 10, damping: 0.2, constraint_damping: 1e-3, ..Settings::default() };
     for method in [Method::GaussSeidel, Method::Jacobi] {
         let (d, x) = compare(&ctx, &kernels, "cloth", SceneOptions::default(), &Settings { method, ..s }, 25);
-        let lowest = x.iter().map(|p| p.y).fold(f32::MAX, f32::min);
-        println!("cloth 2x10 {method:?}: max distance {d:.3e} m, lowest particle at {lowest:.3} m");
-        assert!(lowest > 0.05 && lowest < 0.9, "{method:?}: the cloth should have swung down, not landed");
+        let low = lowest(&x);
+        println!("cloth 2x10 {method:?}: max distance {d:.3e} m, lowest particle at {low:.3} m");
+        assert!(low > 0.05 && low < 0.9, "{method:?}: the cloth should have swung down, not landed");
         assert!(d < TOLERANCE, "cloth {method:?}: GPU and CPU differ by {d:.3e} m");
     }
 }
@@ -117,7 +122,7 @@ fn contacts_match_the_cpu_as_closely_as_the_cpu_matches_itself() {
             assert!(d_gpu < 10.0 * d_self + TOLERANCE, "frame {frame}: GPU {d_gpu:.3e} m vs CPU self {d_self:.3e} m");
         }
     }
-    let y_min = gpu.read_positions().unwrap().iter().map(|p| p.y).fold(f32::MAX, f32::min);
+    let y_min = lowest(&gpu.read_positions().unwrap());
     assert!(y_min >= 0.0, "GPU cloth went through the ground: {y_min}");
 }
 
