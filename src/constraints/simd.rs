@@ -143,6 +143,10 @@ pub(crate) fn unlanes<S: Real>(v: Lanes) -> [S; WIDTH] {
 #[inline(always)]
 pub(crate) fn store_masked<S: Real>(out: &mut [S], v: Lanes, mask: u32) {
     let v: [S; WIDTH] = unlanes(v);
+    if mask == (1 << WIDTH) - 1 {
+        out[..WIDTH].copy_from_slice(&v);
+        return;
+    }
     for (l, (o, v)) in out.iter_mut().zip(v).enumerate() {
         if mask & (1 << l) != 0 {
             *o = v;

@@ -15,6 +15,7 @@ use super::contacts::project_contacts;
 use super::energy::{EnergyAware, global_scale, local_constraint};
 use super::jacobi;
 use super::particles;
+use super::shared::Prechecked;
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
 
@@ -39,6 +40,10 @@ struct FamilyState<S> {
     /// [`Particles::w`] at the start of every frame of plain Gauss-Seidel
     /// ([`CpuSolver::refresh_lane_masses`]).
     w_lanes: Vec<f32>,
+    /// One past the largest particle index of the family's elements (0 when it has none): the
+    /// lean sweeps check it against the positions' length once, then gather and scatter without
+    /// bounds checks ([`Prechecked`]).
+    bound: usize,
 }
 
 /// The local mode's snapshots of the positions at the start of the current and the previous
@@ -110,6 +115,7 @@ impl<V: Vector> CpuSolver<V> {
         crate::for_each_family!(scene, |i, f| {
             fam[i].lambda = vec![V::S::zero(); f.len()];
             fam[i].disjoint = f.groups_disjoint(n);
+            fam[i].bound = f.elements.iter().flat_map(|e| e.particles()).max().map_or(0, |p| p as usize + 1);
         });
         let splittable = team::splittable(&scene, &fam);
         CpuSolver {
@@ -262,7 +268,7 @@ impl<V: Vector> CpuSolver<V> {
                     crate::for_each_family!(self.scene, |i, f| {
                         let st = &mut self.fam[i];
                         let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-                        gauss_seidel(f, &mut st.lambda, &st.w_lanes, &mut self.particles, k, ctx)
+                        gauss_seidel(f, &mut st.lambda, (&st.w_lanes, st.bound), &mut self.particles, k, ctx)
                     });
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
@@ -461,7 +467,7 @@ fn local_adjusted<V: Vector, const N: usize>(
 fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
-    w_lanes: &[f32],
+    (w_lanes, bound): (&[f32], usize),
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
@@ -471,7 +477,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
-        None if k.plain() => plain_sweep(f, lambda, w_lanes, &mut p.x, &p.x_prev, &p.w, k),
+        None if k.plain() => plain_sweep(f, lambda, (w_lanes, bound), &mut p.x, &p.x_prev, &p.w, k),
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }
@@ -480,20 +486,32 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 /// takes its family's lean kernel ([`Element::project_plain`], [`SIMD_WIDTH`] at a time where the family has
 /// a SIMD kernel and the precision is `f32`) and falls back to the general update where that
 /// declines. (On several threads, [`team`] runs the same kernels.)
+#[allow(unsafe_code)]
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
-    w_lanes: &[f32],
+    (w_lanes, bound): (&[f32], usize),
     x: &mut [V],
     x_prev: &[V],
     w: &[V::S],
     k: &StepConstants<V::S>,
 ) {
+    checked_bound(bound, x.len());
+    // SAFETY: every particle index of the family's elements is below `bound` ≤ `x.len()`
+    // (checked above), and `plain_chunk` touches only the particles of the elements it is given.
+    let x = &mut unsafe { Prechecked::slice(x) };
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
         let wl = slot_ranges(w_lanes, f.len(), lo..hi);
         plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, (w, wl), k);
     }
+}
+
+/// Panics unless a family's particle indices (all below `bound`, [`FamilyState::bound`]) lie
+/// within `len` particles: the check that lets its sweep run without bounds checks.
+#[inline]
+fn checked_bound(bound: usize, len: usize) {
+    assert!(bound <= len, "an element refers to particle {} of {len}", bound - 1);
 }
 
 /// `true` where the family's elements have a SIMD kernel ([`Element::PLAIN_WIDE`]).
@@ -534,11 +552,11 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
         while j + SIMD_WIDTH <= es.len() {
             let (e, l) = (&es[j..j + SIMD_WIDTH], &mut ls[j..j + SIMD_WIDTH]);
             let wj = wl.map(|s| &s[j..j + SIMD_WIDTH]);
-            let declined = E::project_plain_wide(e, params, x, wj, l, k.inv_h2, k.sor);
-            for l in 0..SIMD_WIDTH {
-                if declined & (1 << l) != 0 {
-                    one(&es[j + l], &mut ls[j + l], x);
-                }
+            let mut declined = E::project_plain_wide(e, params, x, wj, l, k.inv_h2, k.sor);
+            while declined != 0 {
+                let l = declined.trailing_zeros() as usize;
+                one(&es[j + l], &mut ls[j + l], x);
+                declined &= declined - 1;
             }
             j += SIMD_WIDTH;
         }

@@ -20,13 +20,13 @@ use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
 use super::super::jacobi;
 use super::super::particles;
-use super::super::shared::SharedPositions;
+use super::super::shared::{Prechecked, SharedPositions};
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{
-    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, jacobi_element, local_adjusted, plain_chunk, slot_ranges,
-    start_energies, total_energy, update,
+    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, checked_bound, jacobi_element, local_adjusted, plain_chunk,
+    slot_ranges, start_energies, total_energy, update,
 };
 use crate::constraints::Element;
 
@@ -56,6 +56,8 @@ struct Views<'a, V: Vector> {
     corr: SharedPositions<'a, V>,
     /// Each family's inverse masses slot by slot, for the SIMD kernels.
     w_lanes: [&'a [f32]; FAMILY_COUNT],
+    /// Each family's particle-index bound ([`FamilyState::bound`]).
+    bound: [usize; FAMILY_COUNT],
 }
 
 /// What one thread of the team is.
@@ -106,6 +108,7 @@ impl<V: Vector> CpuSolver<V> {
         }
         let p = &mut self.particles;
         let w = &p.w[..];
+        let bound = self.fam.each_ref().map(|st| st.bound);
         let fam = self.fam.each_mut().map(|st| {
             let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
             (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..], &st.w_lanes[..])
@@ -125,6 +128,7 @@ impl<V: Vector> CpuSolver<V> {
             jacobi_scale: fam.map(|f| f.2),
             corr,
             w_lanes: fam.map(|f| f.3),
+            bound,
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         // Thread 0's ledger; with the global balance it also computes the energies, alone.
@@ -209,7 +213,7 @@ impl<V: Vector> CpuSolver<V> {
                     crate::for_each_family!(scene, |i, f| {
                         let x_prev = v.x_prev.read_all();
                         let family = &plan.families[i];
-                        let how = Sweep { plain, local: ctx(i) };
+                        let how = Sweep { plain, bound: v.bound[i], local: ctx(i) };
                         let w = (w, v.w_lanes[i]);
                         team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
@@ -307,11 +311,14 @@ fn jacobi_share<E: Element<N>, V: Vector, const N: usize>(
 /// where `plain` ([`plain_chunk`]), else the general update of every element.
 struct Sweep<'a, V: Vector> {
     plain: bool,
+    /// The family's particle-index bound ([`FamilyState::bound`]).
+    bound: usize,
     local: Option<LocalCtx<'a, V>>,
 }
 
 /// One Gauss-Seidel sweep of family `f` by the team, one step per color group ([`Plan`]). A
 /// family whose groups were not checked disjoint runs whole on thread 0 between two barriers.
+#[allow(unsafe_code)]
 fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     mut lambda: SharedPositions<'_, V::S>,
@@ -335,8 +342,13 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
                     update(e, &f.params, l, x, x_prev, w, k, adjust);
                 }
             }
-            Sweep { plain: true, .. } => {
+            Sweep { plain: true, bound, .. } => {
                 let wl = slot_ranges(w_lanes, f.len(), start..start + es.len());
+                checked_bound(*bound, x.len());
+                // SAFETY: every particle index of the family's elements is below `bound` ≤
+                // `x.len()` (checked above), `plain_chunk` touches only the particles of the
+                // elements it is given, and those are this worker's in the current group.
+                let x = &mut unsafe { Prechecked::shared(x) };
                 plain_chunk(es, ls, &f.params, x, x_prev, (w, wl), k)
             }
             Sweep { plain: false, .. } => {
