@@ -8,6 +8,7 @@ use super::coloring::ColoringRow;
 use super::measure::Row;
 use super::peer::{Split, most_accurate};
 use super::scaling::ScalePoint;
+use super::timing::BLOCK_FRAMES;
 
 /// Everything one run measured.
 pub struct Results {
@@ -124,7 +125,7 @@ pub fn memory_table(rows: &[Row]) -> String {
 /// The peer scene's splits, one line per split with both CPU backends.
 pub fn peer_table(splits: &[Split]) -> String {
     let mut s = String::from(
-        "| iterations × substeps | ms/frame, 1 thread | ms/frame, all threads | grid stretch | all-edge stretch |\n\
+        "| iterations × substeps | ms/frame, 1 thread (mean, median) | ms/frame, all threads (mean, median) | grid stretch | all-edge stretch |\n\
          |---|---|---|---|---|\n",
     );
     let mut seen: Vec<(u32, u32)> = Vec::new();
@@ -141,8 +142,8 @@ pub fn peer_table(splits: &[Split]) -> String {
             "| {} × {} | {} | {} | {:.4} | {:.4} |",
             sp.iterations,
             sp.substeps,
-            of(Backend::CpuSingle).map_or("–".into(), |x| ms(x.mean_ms)),
-            of(Backend::CpuAll).map_or("–".into(), |x| ms(x.mean_ms)),
+            of(Backend::CpuSingle).map_or("–".into(), mean_median),
+            of(Backend::CpuAll).map_or("–".into(), mean_median),
             single.stretch_grid,
             single.stretch_all
         );
@@ -150,18 +151,25 @@ pub fn peer_table(splits: &[Split]) -> String {
     s
 }
 
-/// One sentence naming the most accurate split.
+/// A split's mean and median time per frame (ms).
+fn mean_median(x: &Split) -> String {
+    format!("{}, {}", ms(x.mean_ms), ms(x.median_ms))
+}
+
+/// One sentence naming the most accurate split, with its times on each backend.
 pub fn most_accurate_line(splits: &[Split]) -> String {
-    match most_accurate(splits, Backend::CpuSingle) {
-        Some(b) => format!(
-            "Most accurate split: {} × {} (grid stretch {:.4}, {} ms/frame on one thread).",
-            b.iterations,
-            b.substeps,
-            b.stretch_grid,
-            ms(b.mean_ms)
-        ),
-        None => "No split measured.".into(),
-    }
+    let Some(b) = most_accurate(splits, Backend::CpuSingle) else { return "No split measured.".into() };
+    let all = splits
+        .iter()
+        .find(|x| (x.iterations, x.substeps) == (b.iterations, b.substeps) && x.backend == Backend::CpuAll)
+        .map_or(String::new(), |a| format!("; {} on all threads", mean_median(a)));
+    format!(
+        "Most accurate split: {} × {} (grid stretch {:.4}; ms/frame, mean and median: {} on one thread{all}).",
+        b.iterations,
+        b.substeps,
+        b.stretch_grid,
+        mean_median(b)
+    )
 }
 
 /// The scaling series: one line per cloth, the backends side by side.
@@ -222,8 +230,9 @@ pub fn markdown(r: &Results) -> String {
         s,
         "\n## Peer scene: splits of 30\n\n`cloth --resolution {PEER_RESOLUTION} --stiffness {PEER_STIFFNESS:e} \
          --bending-stiffness {PEER_BENDING:e} --diagonals alternating` (the PositionBasedDynamics library's \
-         mesh), Gauss-Seidel, compliant; mean time per frame over {} frames from \
-         rest, and the time-averaged mean relative stretch over the grid edges (no diagonals) and over every \
+         mesh), Gauss-Seidel, compliant; mean and median time per frame over {} frames from \
+         rest (the one and two-thread runs in turns of {BLOCK_FRAMES} frames; the median is not moved by \
+         the odd frame in which the host takes a core away), and the time-averaged mean relative stretch over the grid edges (no diagonals) and over every \
          spring edge.\n\n",
         r.split_frames
     );
@@ -258,7 +267,8 @@ pub const BENCH_CSV_HEADER: &str = "label,scene,resolution,backend,method,form,i
 pub const SCALING_CSV_HEADER: &str =
     "resolution,particles,constraints,backend,ms_per_frame,ns_per_projection,ratio_to_smallest";
 /// The column names of `peer.csv`.
-pub const PEER_CSV_HEADER: &str = "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges";
+pub const PEER_CSV_HEADER: &str =
+    "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges,median_ms_per_frame";
 
 /// Writes `bench.csv`, `scaling.csv` and `peer.csv` to `dir` (created if needed).
 pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
@@ -311,15 +321,42 @@ pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
     for p in &r.splits {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{:.6},{:.6},{:.6}",
+            "{},{},{},{},{:.6},{:.6},{:.6},{:.6}",
             p.iterations,
             p.substeps,
             p.backend.name(),
             p.frames,
             p.mean_ms,
             p.stretch_grid,
-            p.stretch_all
+            p.stretch_all,
+            p.median_ms
         );
     }
     write(dir, "peer.csv", &csv)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn split(iterations: u32, substeps: u32, backend: Backend, mean_ms: f64, median_ms: f64, stretch: f64) -> Split {
+        let frames = 120;
+        Split { iterations, substeps, backend, frames, mean_ms, median_ms, stretch_grid: stretch, stretch_all: stretch }
+    }
+
+    #[test]
+    fn the_peer_splits_give_mean_and_median_on_both_backends() {
+        let splits = [
+            split(30, 1, Backend::CpuSingle, 7.5, 7.0, 0.088),
+            split(30, 1, Backend::CpuAll, 5.5, 4.5, 0.088),
+            split(1, 30, Backend::CpuSingle, 7.25, 6.75, 0.0065),
+            split(1, 30, Backend::CpuAll, 6.5, 4.25, 0.0065),
+        ];
+        let table = peer_table(&splits);
+        assert!(table.contains("| 30 × 1 | 7.500, 7.000 | 5.500, 4.500 | 0.0880 |"), "{table}");
+        assert!(table.contains("| 1 × 30 | 7.250, 6.750 | 6.500, 4.250 | 0.0065 |"), "{table}");
+        let line = most_accurate_line(&splits);
+        assert!(line.starts_with("Most accurate split: 1 × 30 (grid stretch 0.0065;"), "{line}");
+        assert!(line.contains("7.250, 6.750 on one thread; 6.500, 4.250 on all threads"), "{line}");
+    }
 }

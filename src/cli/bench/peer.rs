@@ -9,7 +9,7 @@ use eapbd::solver::{CpuSolver, Settings};
 use glam::Vec3A;
 
 use super::cases::{Backend, peer_options};
-use super::timing::BLOCK_FRAMES;
+use super::timing::{BLOCK_FRAMES, median};
 
 /// One split of the peer scene on one CPU backend.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,6 +24,9 @@ pub struct Split {
     pub frames: u32,
     /// Mean wall time of a frame (ms), measurement excluded.
     pub mean_ms: f64,
+    /// Median wall time of a frame (ms): unlike the mean, not moved by the odd frame in which
+    /// the host took a core away for tens of milliseconds.
+    pub median_ms: f64,
     /// Time average over the frames of the mean relative stretch `||d| − l₀| / l₀` of the grid
     /// edges (warp and weft, no diagonals): the performance issue's accuracy measure.
     pub stretch_grid: f64,
@@ -41,17 +44,25 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
         .iter()
         .map(|&backend| {
             let s = Settings { iterations, substeps, threads: backend.threads(), ..Settings::default() };
-            let split =
-                Split { iterations, substeps, backend, frames, mean_ms: 0.0, stretch_grid: 0.0, stretch_all: 0.0 };
-            (CpuSolver::<Vec3A>::new(scene.clone()), s, split)
+            let split = Split {
+                iterations,
+                substeps,
+                backend,
+                frames,
+                mean_ms: 0.0,
+                median_ms: 0.0,
+                stretch_grid: 0.0,
+                stretch_all: 0.0,
+            };
+            (CpuSolver::<Vec3A>::new(scene.clone()), s, split, Vec::with_capacity(frames as usize))
         })
         .collect();
     for first in (0..frames).step_by(BLOCK_FRAMES) {
-        for (sv, s, split) in &mut runs {
+        for (sv, s, split, times) in &mut runs {
             for _ in first..(first + BLOCK_FRAMES as u32).min(frames) {
                 let t0 = Instant::now();
                 sv.step_frame(s);
-                split.mean_ms += t0.elapsed().as_secs_f64() * 1e3;
+                times.push(t0.elapsed().as_secs_f64() * 1e3);
                 let x = &sv.particles.x;
                 split.stretch_grid += metrics::stretch(&grid, &grid_rest, x).0;
                 split.stretch_all += metrics::stretch(&sv.scene().edges, &sv.scene().edge_rest, x).0;
@@ -61,8 +72,9 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
     let n = frames.max(1) as f64;
     Ok(runs
         .into_iter()
-        .map(|(_, _, s)| Split {
-            mean_ms: s.mean_ms / n,
+        .map(|(_, _, s, mut times)| Split {
+            mean_ms: times.iter().sum::<f64>() / n,
+            median_ms: median(&mut times),
             stretch_grid: s.stretch_grid / n,
             stretch_all: s.stretch_all / n,
             ..s
