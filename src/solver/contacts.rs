@@ -3,9 +3,56 @@
 //! the start of the substep, `t`, entirely when `|t| ≤ μ d` (static), else by `μ d` (kinetic).
 
 use crate::math::prelude::*;
-use crate::scene::Scene;
+use crate::scene::{Scene, Sphere};
 
 use super::Particles;
+
+/// A scene's colliders in the solver's precision, taken once per pass.
+pub(crate) struct Colliders<'a, V: Vector> {
+    /// The ground's contact height `height + contact_offset` (m) and its friction coefficient.
+    ground: Option<(V::S, V::S)>,
+    spheres: &'a [Sphere],
+    /// The scene's contact offset (m), added to every sphere's radius.
+    offset: V::S,
+}
+
+impl<'a, V: Vector> Colliders<'a, V> {
+    pub fn new(scene: &'a Scene) -> Self {
+        let offset: V::S = scene.contact_offset.into();
+        let ground = scene.ground.map(|g| (<V::S as From<f32>>::from(g.height) + offset, g.friction.into()));
+        Colliders { ground, spheres: &scene.spheres, offset }
+    }
+
+    /// A free particle at `x` (start of substep `x_prev`) projected out of the ground, then out
+    /// of each sphere; `None` when no collider moved it.
+    #[inline]
+    pub fn project(&self, mut x: V, x_prev: V) -> Option<V> {
+        let zero = V::S::zero();
+        let mut moved = false;
+        if let Some((floor, mu)) = self.ground {
+            let y = x.get(1);
+            if y < floor {
+                let n = V::new(zero, V::S::one(), zero);
+                x += n * (floor - y);
+                x = friction(x, x_prev, n, floor - y, mu);
+                moved = true;
+            }
+        }
+        for s in self.spheres {
+            let c = V::from_vec3(s.center);
+            let r = <V::S as From<f32>>::from(s.radius) + self.offset;
+            let d = x - c;
+            let len = d.length();
+            if len < r && len > V::S::epsilon() {
+                let n = d * (V::S::one() / len);
+                x += n * (r - len);
+                x = friction(x, x_prev, n, r - len, s.friction.into());
+                moved = true;
+            }
+        }
+        moved.then_some(x)
+    }
+}
 
 /// Projects every free particle out of the scene's colliders.
 pub(crate) fn project_contacts<V: Vector>(scene: &Scene, p: &mut Particles<V>) {
@@ -15,40 +62,14 @@ pub(crate) fn project_contacts<V: Vector>(scene: &Scene, p: &mut Particles<V>) {
 /// Projects the free particles of a range (positions `x`, substep starts `x_prev`, inverse masses
 /// `w`, index for index) out of the scene's colliders.
 pub(crate) fn project_range<V: Vector>(scene: &Scene, x: &mut [V], x_prev: &[V], w: &[V::S]) {
-    for i in 0..x.len() {
-        if w[i] > V::S::zero() {
-            x[i] = project_particle(scene, x[i], x_prev[i]);
+    let colliders = Colliders::new(scene);
+    for ((x, &x_prev), &w) in x.iter_mut().zip(x_prev).zip(w) {
+        if w > V::S::zero()
+            && let Some(p) = colliders.project(*x, x_prev)
+        {
+            *x = p;
         }
     }
-}
-
-/// A free particle at `x` (start of substep `x_prev`) projected out of the ground, then out of
-/// each sphere.
-#[inline]
-pub(crate) fn project_particle<V: Vector>(scene: &Scene, mut x: V, x_prev: V) -> V {
-    let offset: V::S = scene.contact_offset.into();
-    let zero = V::S::zero();
-    if let Some(g) = scene.ground {
-        let floor = <V::S as From<f32>>::from(g.height) + offset;
-        let y = x.get(1);
-        if y < floor {
-            let n = V::new(zero, V::S::one(), zero);
-            x += n * (floor - y);
-            x = friction(x, x_prev, n, floor - y, g.friction.into());
-        }
-    }
-    for s in &scene.spheres {
-        let c = V::from_vec3(s.center);
-        let r = <V::S as From<f32>>::from(s.radius) + offset;
-        let d = x - c;
-        let len = d.length();
-        if len < r && len > V::S::epsilon() {
-            let n = d * (V::S::one() / len);
-            x += n * (r - len);
-            x = friction(x, x_prev, n, r - len, s.friction.into());
-        }
-    }
-    x
 }
 
 #[inline]

@@ -4,7 +4,7 @@
 use crate::math::prelude::*;
 use crate::scene::Scene;
 
-use super::contacts::project_particle;
+use super::contacts::Colliders;
 
 /// Particle state: positions, positions at the start of the substep, velocities, inverse
 /// masses. Pinned particles have inverse mass 0.
@@ -73,13 +73,13 @@ pub(crate) const WORK_BLOCK: usize = 256;
 /// The prediction of a substep of `h` seconds over a range of particles: `x_prev = x`, then free
 /// particles take `v += g h`, `x += v h`; pinned ones keep `x` and get `v = 0`.
 pub(crate) fn predict<V: Vector>(x: &mut [V], x_prev: &mut [V], v: &mut [V], w: &[V::S], g: V, h: V::S) {
-    for i in 0..x.len() {
-        x_prev[i] = x[i];
-        if w[i] > V::S::zero() {
-            v[i] += g * h;
-            x[i] += v[i] * h;
+    for (((x, x_prev), v), &w) in x.iter_mut().zip(x_prev).zip(v).zip(w) {
+        *x_prev = *x;
+        if w > V::S::zero() {
+            *v += g * h;
+            *x += *v * h;
         } else {
-            v[i] = V::ZERO;
+            *v = V::ZERO;
         }
     }
 }
@@ -100,24 +100,34 @@ pub(crate) fn finish<V: Vector>(
 ) {
     let keep = (V::S::one() - damping * h).max(V::S::zero());
     let inv_h = V::S::one() / h;
+    let (scale, damped) = (inv_h * keep, keep != V::S::one());
     let (keep64, inv_h64) = (keep.to_f64(), inv_h.to_f64());
+    let colliders = Colliders::new(scene);
     for (b, sum) in work.iter_mut().enumerate() {
+        let r = (b * WORK_BLOCK).min(x.len())..((b + 1) * WORK_BLOCK).min(x.len());
+        let (x, x_prev, v, w) = (&mut x[r.clone()], &x_prev[r.clone()], &mut v[r.clone()], &w[r]);
         *sum = 0.0;
-        for i in b * WORK_BLOCK..((b + 1) * WORK_BLOCK).min(x.len()) {
-            if w[i] > V::S::zero() {
-                let before = x[i];
-                x[i] = project_particle(scene, before, x_prev[i]);
+        for (((x, &x_prev), v), &w) in x.iter_mut().zip(x_prev).zip(v).zip(w) {
+            if w > V::S::zero() {
+                let before = *x;
+                let moved = match colliders.project(before, x_prev) {
+                    Some(p) => {
+                        *x = p;
+                        true
+                    }
+                    None => false,
+                };
                 // Both terms vanish (exactly) for a particle the pass left alone without damping.
-                if x[i] != before || keep != V::S::one() {
-                    let m = 1.0 / w[i].to_f64();
-                    let vb = (before.to_dvec3() - x_prev[i].to_dvec3()) * inv_h64;
-                    let va = (x[i].to_dvec3() - x_prev[i].to_dvec3()) * inv_h64;
+                if moved || damped {
+                    let m = 1.0 / w.to_f64();
+                    let vb = (before.to_dvec3() - x_prev.to_dvec3()) * inv_h64;
+                    let va = (x.to_dvec3() - x_prev.to_dvec3()) * inv_h64;
                     *sum += 0.5 * m * (va.length_squared() - vb.length_squared());
                     *sum += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
                 }
-                v[i] = (x[i] - x_prev[i]) * (inv_h * keep);
+                *v = (*x - x_prev) * scale;
             } else {
-                v[i] = V::ZERO;
+                *v = V::ZERO;
             }
         }
     }
