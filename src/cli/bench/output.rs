@@ -135,7 +135,7 @@ pub fn peer_table(splits: &[Split]) -> String {
             continue;
         }
         seen.push(key);
-        let of = |b: Backend| splits.iter().find(|x| (x.iterations, x.substeps) == key && x.backend == b);
+        let of = |b: Backend| split_of(splits, key, b);
         let single = of(Backend::CpuSingle).unwrap_or(sp);
         let _ = writeln!(
             s,
@@ -151,6 +151,11 @@ pub fn peer_table(splits: &[Split]) -> String {
     s
 }
 
+/// The split `(iterations, substeps)` measured on `backend`.
+fn split_of(splits: &[Split], key: (u32, u32), backend: Backend) -> Option<&Split> {
+    splits.iter().find(|x| (x.iterations, x.substeps) == key && x.backend == backend)
+}
+
 /// A split's mean and median time per frame (ms).
 fn mean_median(x: &Split) -> String {
     format!("{}, {}", ms(x.mean_ms), ms(x.median_ms))
@@ -159,9 +164,7 @@ fn mean_median(x: &Split) -> String {
 /// One sentence naming the most accurate split, with its times on each backend.
 pub fn most_accurate_line(splits: &[Split]) -> String {
     let Some(b) = most_accurate(splits, Backend::CpuSingle) else { return "No split measured.".into() };
-    let all = splits
-        .iter()
-        .find(|x| (x.iterations, x.substeps) == (b.iterations, b.substeps) && x.backend == Backend::CpuAll)
+    let all = split_of(splits, (b.iterations, b.substeps), Backend::CpuAll)
         .map_or(String::new(), |a| format!("; {} on all threads", mean_median(a)));
     format!(
         "Most accurate split: {} × {} (grid stretch {:.4}; ms/frame, mean and median: {} on one thread{all}).",

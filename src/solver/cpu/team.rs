@@ -331,6 +331,9 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     step: &mut usize,
     how: Sweep<'_, V>,
 ) {
+    if how.plain && how.local.is_none() {
+        checked_bound(how.bound, x.len());
+    }
     let mut chunk = |r: Range<usize>, x: &mut SharedPositions<'_, V>| {
         let (start, es, ls) = (r.start, &f.elements[r.clone()], lambda.range_mut(r));
         match &how {
@@ -342,12 +345,12 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
                     update(e, &f.params, l, x, x_prev, w, k, adjust);
                 }
             }
-            Sweep { plain: true, bound, .. } => {
+            Sweep { plain: true, .. } => {
                 let wl = slot_ranges(w_lanes, f.len(), start..start + es.len());
-                checked_bound(*bound, x.len());
                 // SAFETY: every particle index of the family's elements is below `bound` ≤
-                // `x.len()` (checked above), `plain_chunk` touches only the particles of the
-                // elements it is given, and those are this worker's in the current group.
+                // `x.len()` (checked once at the top of the sweep), `plain_chunk` touches only the
+                // particles of the elements it is given, and those are this worker's in the
+                // current group.
                 let x = &mut unsafe { Prechecked::shared(x) };
                 plain_chunk(es, ls, &f.params, x, x_prev, (w, wl), k)
             }
