@@ -267,6 +267,31 @@ fn a_family_with_overlapping_groups_runs_whole_on_the_team() {
     assert_eq!(one, run(3), "three threads");
 }
 
+#[test]
+fn the_team_reports_its_time_working_and_waiting() {
+    let scene = scene::build("cloth", &SceneOptions { resolution: Some(64), ..SceneOptions::default() }).unwrap();
+    let mut sv = CpuSolver::<Vec3A>::new(scene);
+    let s = Settings { threads: 2, ..Settings::default() };
+    for _ in 0..5 {
+        sv.step_frame(&s);
+    }
+    let t = sv.team_time();
+    if std::thread::available_parallelism().map_or(1, |n| n.get()) < 2 {
+        assert_eq!(t.frames, 0, "one core: no team");
+        return;
+    }
+    // The first frame runs on the team; a later one may run on one thread (the team's check).
+    assert!((1..=5).contains(&t.frames), "{t:?}");
+    assert_eq!((t.busy.len(), t.waited.len()), (2, 2));
+    assert!(t.busy.iter().all(|b| !b.is_zero()), "{t:?}");
+    assert!((0.0..1.0).contains(&t.wait_fraction()), "{t:?}");
+    sv.reset_team_time();
+    assert_eq!(sv.team_time().frames, 0);
+    // Frames on one thread are not counted.
+    sv.step_frame(&Settings { threads: 1, ..s });
+    assert_eq!((sv.team_time().frames, sv.team_time().wait_fraction()), (0, 0.0));
+}
+
 /// The particle positions after `frames` frames of `scene` with `settings`.
 fn positions_after(scene: &eapbd::scene::Scene, settings: Settings, frames: usize) -> Vec<Vec3A> {
     let mut s = CpuSolver::<Vec3A>::new(scene.clone());

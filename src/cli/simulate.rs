@@ -126,6 +126,11 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         last.total(),
         if finite { "all finite" } else { "NON-FINITE VALUES" }
     );
+    if let Simulation::Cpu(c) = &sim
+        && let Some(line) = team_line(c.team_time())
+    {
+        say!("{line}");
+    }
     if let Some(path) = &a.export_obj {
         let (x, triangles) = sim.scene().surface(&x);
         eapbd::mesh::write_obj(path, &x, triangles)?;
@@ -133,6 +138,21 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     }
     anyhow::ensure!(finite, "the simulation produced non-finite values");
     Ok(())
+}
+
+/// Where the team's threads spent their frames, when some frames ran on several threads.
+fn team_line(t: &eapbd::solver::TeamTime) -> Option<String> {
+    let threads = t.busy.len();
+    let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3 / f64::from(t.frames.max(1));
+    let each: Vec<String> = (0..threads).map(|i| format!("{:.3}/{:.3}", ms(t.busy[i]), ms(t.waited[i]))).collect();
+    (t.frames > 0).then(|| {
+        format!(
+            "team: {} frames on {threads} threads, waiting {:.1} % of their time; ms/frame working/waiting per thread: {}",
+            t.frames,
+            100.0 * t.wait_fraction(),
+            each.join(", ")
+        )
+    })
 }
 
 fn families(scene: &eapbd::scene::Scene) -> String {

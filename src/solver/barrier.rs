@@ -46,8 +46,9 @@ impl SpinBarrier {
         }
     }
 
-    /// Blocks until all the threads have called `wait` (once each per round).
-    pub fn wait(&self) {
+    /// Blocks until all the threads have called `wait` (once each per round); returns how long
+    /// this thread waited (nothing for the last to arrive).
+    pub fn wait(&self) -> Waited {
         let generation = self.generation.load(Ordering::Acquire);
         if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.threads {
             // The reset is ordered before the new round, so a thread that sees the new round
@@ -58,13 +59,13 @@ impl SpinBarrier {
                 let _guard = self.lock.lock().unwrap_or_else(PoisonError::into_inner);
                 self.wake.notify_all();
             }
-            return;
+            return Waited::default();
         }
         let start = Instant::now();
         let mut spins = 0u32;
         loop {
             if self.generation.load(Ordering::Acquire) != generation {
-                return;
+                return Waited { time: start.elapsed(), slept: false };
             }
             std::hint::spin_loop();
             spins = spins.wrapping_add(1);
@@ -79,6 +80,7 @@ impl SpinBarrier {
             guard = self.wake.wait(guard).unwrap_or_else(PoisonError::into_inner);
         }
         self.sleepers.fetch_sub(1, Ordering::SeqCst);
+        Waited { time: start.elapsed(), slept: true }
     }
 
     /// Waits that ended in sleep so far: a team whose threads sleep at its barriers is sharing
@@ -86,6 +88,15 @@ impl SpinBarrier {
     pub fn slept(&self) -> usize {
         self.slept.load(Ordering::Relaxed)
     }
+}
+
+/// What one wait of a thread took.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Waited {
+    /// Time spent waiting (zero when nothing was awaited).
+    pub time: Duration,
+    /// The wait ended in sleep: it outlasted [`SPIN_TIME`].
+    pub slept: bool,
 }
 
 /// Each thread's count of finished steps, for threads that order only some of their work (the
@@ -131,10 +142,10 @@ impl Progress {
     }
 
     /// Blocks thread `t` until every other thread has published at least `n`: spins, then, past
-    /// [`SPIN_TIME`], sleeps in short naps. Returns `true` when it slept.
+    /// [`SPIN_TIME`], sleeps in short naps.
     #[inline]
-    pub fn wait(&self, t: usize, n: usize) -> bool {
-        let mut slept = false;
+    pub fn wait(&self, t: usize, n: usize) -> Waited {
+        let mut waited = Waited::default();
         for (u, d) in self.done.iter().enumerate() {
             if u == t || d.0.load(Ordering::Acquire) >= n {
                 continue;
@@ -143,15 +154,16 @@ impl Progress {
             let mut spins = 0u32;
             while d.0.load(Ordering::Acquire) < n {
                 spins = spins.wrapping_add(1);
-                if slept || (spins.is_multiple_of(64) && start.elapsed() > SPIN_TIME) {
-                    slept = true;
+                if waited.slept || (spins.is_multiple_of(64) && start.elapsed() > SPIN_TIME) {
+                    waited.slept = true;
                     std::thread::sleep(NAP);
                 } else {
                     std::hint::spin_loop();
                 }
             }
+            waited.time += start.elapsed();
         }
-        slept
+        waited
     }
 }
 
@@ -203,6 +215,25 @@ mod tests {
             }
         });
         assert_eq!(barrier.slept(), 2, "the two early threads spin, then sleep until the late one arrives");
+        // The waits report their time: the early thread waited through the late one's sleep.
+        let waits = Mutex::new(Vec::new());
+        let barrier = SpinBarrier::new(2);
+        std::thread::scope(|s| {
+            for t in 0..2 {
+                let (b, waits) = (&barrier, &waits);
+                s.spawn(move || {
+                    if t == 0 {
+                        std::thread::sleep(Duration::from_millis(30));
+                    }
+                    let waited = b.wait();
+                    waits.lock().expect("waits").push(waited);
+                });
+            }
+        });
+        let mut waits = waits.into_inner().expect("waits");
+        waits.sort_by_key(|w| w.time);
+        assert_eq!(waits[0], Waited::default(), "the last to arrive does not wait");
+        assert!(waits[1].slept && waits[1].time >= Duration::from_millis(20), "{waits:?}");
     }
 
     #[test]

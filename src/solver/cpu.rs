@@ -23,6 +23,9 @@ mod choice;
 mod plan;
 mod pool;
 mod team;
+mod team_time;
+
+pub use team_time::TeamTime;
 
 use pool::cores;
 
@@ -105,6 +108,8 @@ pub struct CpuSolver<V: Vector> {
     jacobi_slots: Option<(jacobi::Slots, Vec<V>)>,
     /// The inverse masses the families' `w_lanes` were taken from.
     w_seen: Vec<V::S>,
+    /// The team's time working and waiting ([`CpuSolver::team_time`]).
+    team_time: TeamTime,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -134,6 +139,7 @@ impl<V: Vector> CpuSolver<V> {
             plan: None,
             jacobi_slots: None,
             w_seen: Vec::new(),
+            team_time: TeamTime::default(),
             scene,
         }
     }
@@ -229,6 +235,18 @@ impl<V: Vector> CpuSolver<V> {
         for _ in 0..s.substeps {
             self.substep(s, k);
         }
+    }
+
+    /// Where the threads of the team spent their frames since the solver was made or
+    /// [`CpuSolver::reset_team_time`]: working or waiting for one another. Empty while every
+    /// frame ran on one thread.
+    pub fn team_time(&self) -> &TeamTime {
+        &self.team_time
+    }
+
+    /// Starts [`CpuSolver::team_time`]'s sums again.
+    pub fn reset_team_time(&mut self) {
+        self.team_time.clear();
     }
 
     /// Kinetic + gravitational + elastic energy of the current state (J).

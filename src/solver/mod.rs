@@ -19,7 +19,7 @@ mod particles;
 mod shared;
 mod xpbd;
 
-pub use cpu::CpuSolver;
+pub use cpu::{CpuSolver, TeamTime};
 pub use energy::EnergyAware;
 pub use particles::Particles;
 pub use xpbd::{StepConstants, delta_lambda, residual};

@@ -125,8 +125,8 @@ pub fn memory_table(rows: &[Row]) -> String {
 /// The peer scene's splits, one line per split with both CPU backends.
 pub fn peer_table(splits: &[Split]) -> String {
     let mut s = String::from(
-        "| iterations × substeps | ms/frame, 1 thread (mean, median) | ms/frame, all threads (mean, median) | grid stretch | all-edge stretch |\n\
-         |---|---|---|---|---|\n",
+        "| iterations × substeps | ms/frame, 1 thread (mean, median) | ms/frame, all threads (mean, median) | all threads: time waiting | grid stretch | all-edge stretch |\n\
+         |---|---|---|---|---|---|\n",
     );
     let mut seen: Vec<(u32, u32)> = Vec::new();
     for sp in splits {
@@ -139,11 +139,12 @@ pub fn peer_table(splits: &[Split]) -> String {
         let single = of(Backend::CpuSingle).unwrap_or(sp);
         let _ = writeln!(
             s,
-            "| {} × {} | {} | {} | {:.4} | {:.4} |",
+            "| {} × {} | {} | {} | {} | {:.4} | {:.4} |",
             sp.iterations,
             sp.substeps,
             of(Backend::CpuSingle).map_or("–".into(), mean_median),
             of(Backend::CpuAll).map_or("–".into(), mean_median),
+            of(Backend::CpuAll).and_then(|x| x.team_wait).map_or("–".into(), |w| format!("{:.0} %", 100.0 * w)),
             single.stretch_grid,
             single.stretch_all
         );
@@ -235,8 +236,10 @@ pub fn markdown(r: &Results) -> String {
          --bending-stiffness {PEER_BENDING:e} --diagonals alternating` (the PositionBasedDynamics library's \
          mesh), Gauss-Seidel, compliant; mean and median time per frame over {} frames from \
          rest (the one and two-thread runs in turns of {BLOCK_FRAMES} frames; the median is not moved by \
-         the odd frame in which the host takes a core away), and the time-averaged mean relative stretch over the grid edges (no diagonals) and over every \
-         spring edge.\n\n",
+         the odd frame in which the host takes a core away), the share of the threads' time that the team \
+         spent waiting for one another (at its barriers and before the parts of its color groups that touch \
+         another thread's particles), and the time-averaged mean relative stretch over the grid edges (no \
+         diagonals) and over every spring edge.\n\n",
         r.split_frames
     );
     s.push_str(&peer_table(&r.splits));
@@ -270,8 +273,7 @@ pub const BENCH_CSV_HEADER: &str = "label,scene,resolution,backend,method,form,i
 pub const SCALING_CSV_HEADER: &str =
     "resolution,particles,constraints,backend,ms_per_frame,ns_per_projection,ratio_to_smallest";
 /// The column names of `peer.csv`.
-pub const PEER_CSV_HEADER: &str =
-    "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges,median_ms_per_frame";
+pub const PEER_CSV_HEADER: &str = "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges,median_ms_per_frame,team_wait_fraction";
 
 /// Writes `bench.csv`, `scaling.csv` and `peer.csv` to `dir` (created if needed).
 pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
@@ -324,7 +326,7 @@ pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
     for p in &r.splits {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{:.6},{:.6},{:.6},{:.6}",
+            "{},{},{},{},{:.6},{:.6},{:.6},{:.6},{}",
             p.iterations,
             p.substeps,
             p.backend.name(),
@@ -332,7 +334,8 @@ pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
             p.mean_ms,
             p.stretch_grid,
             p.stretch_all,
-            p.median_ms
+            p.median_ms,
+            p.team_wait.map_or(String::new(), |w| format!("{w:.4}"))
         );
     }
     write(dir, "peer.csv", &csv)
@@ -344,7 +347,18 @@ mod tests {
 
     fn split(iterations: u32, substeps: u32, backend: Backend, mean_ms: f64, median_ms: f64, stretch: f64) -> Split {
         let frames = 120;
-        Split { iterations, substeps, backend, frames, mean_ms, median_ms, stretch_grid: stretch, stretch_all: stretch }
+        let team_wait = (backend == Backend::CpuAll).then_some(0.125);
+        Split {
+            iterations,
+            substeps,
+            backend,
+            frames,
+            mean_ms,
+            median_ms,
+            stretch_grid: stretch,
+            stretch_all: stretch,
+            team_wait,
+        }
     }
 
     #[test]
@@ -356,8 +370,8 @@ mod tests {
             split(1, 30, Backend::CpuAll, 6.5, 4.25, 0.0065),
         ];
         let table = peer_table(&splits);
-        assert!(table.contains("| 30 × 1 | 7.500, 7.000 | 5.500, 4.500 | 0.0880 |"), "{table}");
-        assert!(table.contains("| 1 × 30 | 7.250, 6.750 | 6.500, 4.250 | 0.0065 |"), "{table}");
+        assert!(table.contains("| 30 × 1 | 7.500, 7.000 | 5.500, 4.500 | 12 % | 0.0880 |"), "{table}");
+        assert!(table.contains("| 1 × 30 | 7.250, 6.750 | 6.500, 4.250 | 12 % | 0.0065 |"), "{table}");
         let line = most_accurate_line(&splits);
         assert!(line.starts_with("Most accurate split: 1 × 30 (grid stretch 0.0065;"), "{line}");
         assert!(line.contains("7.250, 6.750 on one thread; 6.500, 4.250 on all threads"), "{line}");

@@ -32,6 +32,9 @@ pub struct Split {
     pub stretch_grid: f64,
     /// The same over every spring edge, diagonals included (the `simulate` command's measure).
     pub stretch_all: f64,
+    /// The fraction of the team's thread time spent waiting for one another
+    /// ([`eapbd::solver::TeamTime::wait_fraction`]); `None` where no frame ran on the team.
+    pub team_wait: Option<f64>,
 }
 
 /// Simulates the peer scene for `frames` frames at `iterations × substeps` on each of
@@ -53,6 +56,7 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
                 median_ms: 0.0,
                 stretch_grid: 0.0,
                 stretch_all: 0.0,
+                team_wait: None,
             };
             (CpuSolver::<Vec3A>::new(scene.clone()), s, split, Vec::with_capacity(frames as usize))
         })
@@ -72,7 +76,8 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
     let n = frames.max(1) as f64;
     Ok(runs
         .into_iter()
-        .map(|(_, _, s, mut times)| Split {
+        .map(|(sv, _, s, mut times)| Split {
+            team_wait: (sv.team_time().frames > 0).then(|| sv.team_time().wait_fraction()),
             mean_ms: times.iter().sum::<f64>() / n,
             median_ms: median(&mut times),
             stretch_grid: s.stretch_grid / n,

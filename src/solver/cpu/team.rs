@@ -7,15 +7,17 @@
 //! ahead goes on with the rest of its share instead of waiting at every group. The elements of a
 //! group share no particle, the passes touch each particle alone, and two elements that share a
 //! particle are visited in the order of their groups, so the positions come out the same, bit for
-//! bit, for any thread count.
+//! bit, for any thread count. Each thread times its waits, and the solver sums each thread's time
+//! working and waiting over the team's frames ([`super::TeamTime`]).
 
 use std::cell::Cell;
 use std::ops::Range;
+use std::time::{Duration, Instant};
 
 use crate::math::prelude::*;
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 
-use super::super::barrier::{SpinBarrier, share};
+use super::super::barrier::{SpinBarrier, Waited, share};
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
 use super::super::jacobi;
@@ -68,6 +70,8 @@ struct Member<'a> {
     plan: &'a Plan,
     /// This thread's waits for the others' steps that ended in sleep.
     slept: Cell<usize>,
+    /// This thread's time spent waiting for the others, at the barrier and before steps.
+    waited: Cell<Duration>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -138,7 +142,15 @@ impl<V: Vector> CpuSolver<V> {
         // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
         let plain = k.plain();
         let totals = rayon::broadcast(|ctx| {
-            let me = Member { t: ctx.index(), threads, barrier: &barrier, plan, slept: Cell::new(0) };
+            let start = Instant::now();
+            let me = Member {
+                t: ctx.index(),
+                threads,
+                barrier: &barrier,
+                plan,
+                slept: Cell::new(0),
+                waited: Cell::default(),
+            };
             let mut v = views;
             let (mine, my_blocks) = particle_share(n, me.t, threads);
             let mut ledger = ledger;
@@ -150,7 +162,7 @@ impl<V: Vector> CpuSolver<V> {
                     if me.t == 0 {
                         h0 = Some(total_energy(scene, rest_com, v.x.read_all(), v.v.read_all(), w));
                     }
-                    barrier.wait();
+                    me.meet();
                 }
                 let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
                 particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
@@ -158,7 +170,7 @@ impl<V: Vector> CpuSolver<V> {
                     let r = share(0..l.len(), me.t, threads, 1);
                     l.range_mut(r).fill(V::S::zero());
                 }
-                barrier.wait();
+                me.meet();
                 if let Some([current, previous]) = &mut v.local {
                     // The local mode's snapshots and start energies, each thread its share.
                     previous.range_mut(mine.clone()).copy_from_slice(&v.x_prev.read_all()[mine.clone()]);
@@ -168,16 +180,16 @@ impl<V: Vector> CpuSolver<V> {
                         let out = v.energy_start[i].range_mut(r.clone());
                         start_energies(f, v.x_prev.read_all(), (k.form, k.energy_compliance), r, out)
                     });
-                    barrier.wait();
+                    me.meet();
                 }
                 for iteration in 0..s.iterations {
                     if let Some([current, previous]) = &mut v.local
                         && iteration > 0
                     {
-                        barrier.wait();
+                        me.meet();
                         std::mem::swap(current, previous);
                         current.range_mut(mine.clone()).copy_from_slice(&v.x.read_all()[mine.clone()]);
-                        barrier.wait();
+                        me.meet();
                     }
                     let ctx = |i: usize| {
                         v.local.as_ref().map(|[current, previous]| LocalCtx {
@@ -196,7 +208,7 @@ impl<V: Vector> CpuSolver<V> {
                             let corr = (&mut v.corr, slots.base[i]);
                             jacobi_share(f, r, lambda, scale, at, ctx(i).as_ref(), corr)
                         });
-                        barrier.wait();
+                        me.meet();
                         let corr = v.corr.read_all();
                         for (x, p) in v.x.range_mut(mine.clone()).iter_mut().zip(mine.clone()) {
                             let mut d = V::ZERO;
@@ -207,7 +219,7 @@ impl<V: Vector> CpuSolver<V> {
                         }
                         let x_prev = &v.x_prev.read_all()[mine.clone()];
                         project_range(scene, v.x.range_mut(mine.clone()), x_prev, &w[mine.clone()]);
-                        barrier.wait();
+                        me.meet();
                         continue;
                     }
                     crate::for_each_family!(scene, |i, f| {
@@ -224,7 +236,7 @@ impl<V: Vector> CpuSolver<V> {
                         });
                     }
                 }
-                barrier.wait();
+                me.meet();
                 let x_prev = &v.x_prev.read_all()[mine.clone()];
                 let (x, vel) = (v.x.range_mut(mine.clone()), v.v.range_mut(mine.clone()));
                 particles::finish(
@@ -236,7 +248,7 @@ impl<V: Vector> CpuSolver<V> {
                     (k.h, damping),
                     v.work.range_mut(my_blocks.clone()),
                 );
-                barrier.wait();
+                me.meet();
                 // Thread 0 adds the blocks in order before the next substep's first barrier, and
                 // no thread writes them again before its next finish pass; with the global
                 // balance it scales the velocities while the others wait.
@@ -250,12 +262,14 @@ impl<V: Vector> CpuSolver<V> {
                     }
                 }
                 if global {
-                    barrier.wait();
+                    me.meet();
                 }
             }
-            (ledger, me.slept.get())
+            let waited = me.waited.get();
+            (ledger, me.slept.get(), start.elapsed().saturating_sub(waited), waited)
         });
         self.ledger = totals[0].0;
+        self.team_time.add(totals.iter().map(|t| (t.2, t.3)));
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
         let per_substep = 3 + global as usize + 2 * local as usize * s.iterations as usize;
         let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
@@ -266,15 +280,27 @@ impl<V: Vector> CpuSolver<V> {
 }
 
 impl Member<'_> {
+    /// Waits at the team's barrier for the other threads.
+    #[inline]
+    fn meet(&self) {
+        self.count(self.barrier.wait());
+    }
+
+    /// Adds a wait's time to this thread's.
+    #[inline]
+    fn count(&self, waited: Waited) {
+        self.waited.set(self.waited.get() + waited.time);
+    }
+
     /// This thread's part of step `*step` (`run` over each of its ranges): the boundary part once
     /// the other threads have finished theirs of the steps before, then the rest.
     #[inline]
     fn step(&self, part: &Part, step: &mut usize, mut run: impl FnMut(Range<usize>)) {
         let progress = &self.plan.progress;
         if !part.boundary.is_empty() {
-            if progress.wait(self.t, *step) {
-                self.slept.set(self.slept.get() + 1);
-            }
+            let waited = progress.wait(self.t, *step);
+            self.count(waited);
+            self.slept.set(self.slept.get() + usize::from(waited.slept));
             run(part.boundary.clone());
         }
         progress.publish(self.t, *step + 1);
@@ -364,13 +390,13 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     match family {
         FamilyPlan::Absent => {}
         FamilyPlan::Whole => {
-            me.barrier.wait();
+            me.meet();
             if me.t == 0 {
                 for range in &f.colors {
                     chunk(range.start as usize..range.end as usize, x);
                 }
             }
-            me.barrier.wait();
+            me.meet();
         }
         FamilyPlan::Split(parts) => {
             for g in 0..f.colors.len() {
