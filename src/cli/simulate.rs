@@ -142,17 +142,18 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
 
 /// Where the team's threads spent their frames, when some frames ran on several threads.
 fn team_line(t: &eapbd::solver::TeamTime) -> Option<String> {
-    let threads = t.busy.len();
-    let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3 / f64::from(t.frames.max(1));
-    let each: Vec<String> = (0..threads).map(|i| format!("{:.3}/{:.3}", ms(t.busy[i]), ms(t.waited[i]))).collect();
-    (t.frames > 0).then(|| {
-        format!(
-            "team: {} frames on {threads} threads, waiting {:.1} % of their time; ms/frame working/waiting per thread: {}",
-            t.frames,
-            100.0 * t.wait_fraction(),
-            each.join(", ")
-        )
-    })
+    if t.frames == 0 {
+        return None;
+    }
+    let ms = |d: &std::time::Duration| d.as_secs_f64() * 1e3 / f64::from(t.frames);
+    let each: Vec<String> = t.busy.iter().zip(&t.waited).map(|(b, w)| format!("{:.3}/{:.3}", ms(b), ms(w))).collect();
+    Some(format!(
+        "team: {} frames on {} threads, waiting {:.1} % of their time; ms/frame working/waiting per thread: {}",
+        t.frames,
+        t.busy.len(),
+        100.0 * t.wait_fraction(),
+        each.join(", ")
+    ))
 }
 
 fn families(scene: &eapbd::scene::Scene) -> String {
