@@ -232,8 +232,9 @@ impl<V: Vector> CpuSolver<V> {
     }
 
     fn serial_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
-        for _ in 0..s.substeps {
-            self.substep(s, k);
+        let fuse = fuses_predict(s);
+        for i in 0..s.substeps {
+            self.substep(s, k, fuse && i > 0, fuse && i + 1 < s.substeps);
         }
     }
 
@@ -261,10 +262,15 @@ impl<V: Vector> CpuSolver<V> {
         potential_energy(&self.scene, self.rest_com, &p.x, &p.w)
     }
 
-    fn substep(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+    /// One substep; `predicted` when the last one's finish pass already made this one's
+    /// prediction, `predict_next` to make the next one's in this one's finish pass
+    /// ([`fuses_predict`]).
+    fn substep(&mut self, s: &Settings, k: &StepConstants<V::S>, predicted: bool, predict_next: bool) {
         let global = s.energy_aware == EnergyAware::Global;
         let h0 = if global { Some(self.ledger.carried.unwrap_or_else(|| self.total_energy())) } else { None };
-        self.predict(k.h);
+        if !predicted {
+            self.predict(k.h);
+        }
         for st in &mut self.fam {
             st.lambda.fill(V::S::zero());
         }
@@ -293,7 +299,8 @@ impl<V: Vector> CpuSolver<V> {
             }
             project_contacts(&self.scene, &mut self.particles);
         }
-        let work = self.finish(k.h, s.damping.into());
+        let next = predict_next.then(|| V::from_vec3(self.scene.gravity));
+        let work = self.finish((k.h, s.damping.into(), next));
         self.ledger.dissipated += work;
         if let Some(h0) = h0 {
             self.balance(h0, work);
@@ -327,11 +334,12 @@ impl<V: Vector> CpuSolver<V> {
         particles::predict(&mut p.x, &mut p.x_prev, &mut p.v, &p.w, g, h);
     }
 
-    /// The final contact pass and the velocity update ([`particles::finish`]); returns the work of
-    /// physical dissipation `W` (J, ≤ 0 for losses), summed block by block.
-    fn finish(&mut self, h: V::S, damping: V::S) -> f64 {
+    /// The final contact pass and the velocity update ([`particles::finish`], with the next
+    /// substep's prediction where `next` is the gravity); returns the work of physical
+    /// dissipation `W` (J, ≤ 0 for losses), summed block by block.
+    fn finish(&mut self, step: (V::S, V::S, Option<V>)) -> f64 {
         let p = &mut self.particles;
-        particles::finish(&self.scene, &mut p.x, &p.x_prev, &mut p.v, &p.w, (h, damping), &mut self.work_blocks);
+        particles::finish(&self.scene, &mut p.x, &mut p.x_prev, &mut p.v, &p.w, step, &mut self.work_blocks);
         self.work_blocks.iter().sum()
     }
 
@@ -389,6 +397,13 @@ impl<V: Vector> CpuSolver<V> {
     pub fn last_constants(&self) -> Option<&StepConstants<V::S>> {
         self.last.as_ref()
     }
+}
+
+/// `true` when a substep's finish pass makes the next substep's prediction in the same visit of
+/// each particle ([`particles::finish`]): in every mode but the global balance, which scales the
+/// velocities between the two.
+fn fuses_predict(s: &Settings) -> bool {
+    s.energy_aware != EnergyAware::Global
 }
 
 /// Kinetic + gravitational + elastic energy of the state `x`, `v` (J).

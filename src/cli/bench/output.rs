@@ -8,7 +8,7 @@ use super::coloring::ColoringRow;
 use super::measure::Row;
 use super::peer::{Split, most_accurate};
 use super::scaling::ScalePoint;
-use super::timing::BLOCK_FRAMES;
+use super::timing::{BLOCK_FRAMES, TURN_WARM_FRAMES};
 
 /// Everything one run measured.
 pub struct Results {
@@ -234,12 +234,13 @@ pub fn markdown(r: &Results) -> String {
         s,
         "\n## Peer scene: splits of 30\n\n`cloth --resolution {PEER_RESOLUTION} --stiffness {PEER_STIFFNESS:e} \
          --bending-stiffness {PEER_BENDING:e} --diagonals alternating` (the PositionBasedDynamics library's \
-         mesh), Gauss-Seidel, compliant; mean and median time per frame over {} frames from \
-         rest (the one and two-thread runs in turns of {BLOCK_FRAMES} frames; the median is not moved by \
-         the odd frame in which the host takes a core away), the share of the threads' time that the team \
+         mesh), Gauss-Seidel, compliant; {} frames from rest, the one and two-thread runs in turns of \
+         {BLOCK_FRAMES} frames; mean and median time per frame over the frames of each turn but its first \
+         {TURN_WARM_FRAMES} (a team whose second core sat idle during the other run's turn starts slowly; \
+         the median is not moved by the odd frame in which the host takes a core away), the share of the threads' time that the team \
          spent waiting for one another (at its barriers and before the parts of its color groups that touch \
-         another thread's particles), and the time-averaged mean relative stretch over the grid edges (no \
-         diagonals) and over every spring edge.\n\n",
+         another thread's particles) in the timed frames, and the time-averaged mean relative stretch over \
+         every frame, over the grid edges (no diagonals) and over every spring edge.\n\n",
         r.split_frames
     );
     s.push_str(&peer_table(&r.splits));

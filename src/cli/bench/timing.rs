@@ -62,7 +62,7 @@ pub const BLOCK_FRAMES: usize = 40;
 const BLOCK_SECONDS: f64 = 1.0;
 /// Frames run unmeasured at the start of every turn after the first: a team whose cores were
 /// idle during another configuration's turn starts slowly.
-const TURN_WARM_FRAMES: usize = 2;
+pub const TURN_WARM_FRAMES: usize = 2;
 
 /// Times several configurations of one case in turn, [`BLOCK_FRAMES`] frames (or
 /// [`BLOCK_SECONDS`]) each, round after round, so that a change in the machine's speed during the

@@ -27,8 +27,8 @@ use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{
-    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, checked_bound, jacobi_element, local_adjusted, plain_chunk,
-    slot_ranges, start_energies, total_energy, update,
+    CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, checked_bound, fuses_predict, jacobi_element, local_adjusted,
+    plain_chunk, slot_ranges, start_energies, total_energy, update,
 };
 use crate::constraints::Element;
 
@@ -141,6 +141,8 @@ impl<V: Vector> CpuSolver<V> {
         let rest_com = self.rest_com;
         // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
         let plain = k.plain();
+        // The next substep's prediction in each finish pass, and one barrier fewer a substep.
+        let fuse = fuses_predict(s);
         let totals = rayon::broadcast(|ctx| {
             let start = Instant::now();
             let me = Member {
@@ -164,13 +166,20 @@ impl<V: Vector> CpuSolver<V> {
                     }
                     me.meet();
                 }
-                let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
-                particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
+                if !fuse || substep == 0 {
+                    let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
+                    particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
+                }
                 for l in &mut v.lambda {
                     let r = share(0..l.len(), me.t, threads, 1);
                     l.range_mut(r).fill(V::S::zero());
                 }
                 me.meet();
+                if fuse && substep > 0 && me.t == 0 {
+                    // The last substep's work: every thread wrote its blocks before the barrier
+                    // above and writes them again only after the next one.
+                    ledger.dissipated += v.work.read_all().iter().sum::<f64>();
+                }
                 if let Some([current, previous]) = &mut v.local {
                     // The local mode's snapshots and start energies, each thread its share.
                     previous.range_mut(mine.clone()).copy_from_slice(&v.x_prev.read_all()[mine.clone()]);
@@ -237,17 +246,17 @@ impl<V: Vector> CpuSolver<V> {
                     }
                 }
                 me.meet();
-                let x_prev = &v.x_prev.read_all()[mine.clone()];
-                let (x, vel) = (v.x.range_mut(mine.clone()), v.v.range_mut(mine.clone()));
-                particles::finish(
-                    scene,
-                    x,
-                    x_prev,
-                    vel,
-                    &w[mine.clone()],
-                    (k.h, damping),
-                    v.work.range_mut(my_blocks.clone()),
-                );
+                let last = substep + 1 == s.substeps;
+                let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
+                let vel = v.v.range_mut(mine.clone());
+                let next = (fuse && !last).then_some(g);
+                let work = v.work.range_mut(my_blocks.clone());
+                particles::finish(scene, x, x_prev, vel, &w[mine.clone()], (k.h, damping, next), work);
+                if fuse && !last {
+                    // This thread predicted its particles for the next substep in the same pass;
+                    // the next barrier comes after the multipliers' reset.
+                    continue;
+                }
                 me.meet();
                 // Thread 0 adds the blocks in order before the next substep's first barrier, and
                 // no thread writes them again before its next finish pass; with the global
@@ -271,9 +280,10 @@ impl<V: Vector> CpuSolver<V> {
         self.ledger = totals[0].0;
         self.team_time.add(totals.iter().map(|t| (t.2, t.3)));
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
-        let per_substep = 3 + global as usize + 2 * local as usize * s.iterations as usize;
+        let per_substep = if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
         let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
-        let waits = threads * s.substeps as usize * (per_substep + s.iterations as usize * per_iteration);
+        let substeps = s.substeps as usize * (per_substep + s.iterations as usize * per_iteration);
+        let waits = threads * (substeps + fuse as usize);
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
     }
