@@ -1,5 +1,7 @@
 //! Whether a frame runs on the team or on one thread: a team frame whose threads slept at many
-//! waits (the cores may be busy with other work) is checked against one frame on one thread.
+//! waits (the cores may be busy with other work) is checked against one frame on one thread, and
+//! a faster frame on one thread against one more team frame (the suspect frame may only have met
+//! the host taking a core away for a while).
 
 use std::time::Duration;
 
@@ -10,8 +12,8 @@ const ALONE_FRAMES: u32 = 30;
 const TRUSTED_FRAMES: u32 = 120;
 
 /// How the next frame runs: the team, unless a suspect team frame (see `team::BUSY_FRACTION`) was
-/// followed by a faster frame on one thread. The positions are the same either way; only the
-/// time changes.
+/// followed by a faster frame on one thread, and that by a team frame slower than it. The
+/// positions are the same either way; only the time changes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) enum Choice {
     /// The team, checked after each frame.
@@ -19,6 +21,10 @@ pub(super) enum Choice {
     Team,
     /// One frame on one thread, to compare with the suspect team frame's time.
     Check(Duration),
+    /// One more team frame, to compare with the faster frame on one thread (its time): a team
+    /// frame slowed by one stall of the host's is followed by a normal one, while cores busy
+    /// with other work slow the next one too.
+    Retry(Duration),
     /// One thread for this many more frames.
     Alone(u32),
     /// The team, unchecked for this many more frames.
@@ -28,7 +34,7 @@ pub(super) enum Choice {
 impl Choice {
     /// `true` when the next frame runs on the team.
     pub fn team(self) -> bool {
-        matches!(self, Choice::Team | Choice::Trusted(_))
+        matches!(self, Choice::Team | Choice::Retry(_) | Choice::Trusted(_))
     }
 
     /// The choice after a frame that took `time`; `busy`: a team frame that slept at many
@@ -39,8 +45,10 @@ impl Choice {
             Choice::Team | Choice::Trusted(1) | Choice::Alone(1) => Choice::Team,
             Choice::Trusted(n) => Choice::Trusted(n - 1),
             Choice::Alone(n) => Choice::Alone(n - 1),
-            Choice::Check(team) if time < team => Choice::Alone(ALONE_FRAMES),
+            Choice::Check(team) if time < team => Choice::Retry(time),
             Choice::Check(_) => Choice::Trusted(TRUSTED_FRAMES),
+            Choice::Retry(alone) if time > alone => Choice::Alone(ALONE_FRAMES),
+            Choice::Retry(_) => Choice::Trusted(TRUSTED_FRAMES),
         }
     }
 }
@@ -56,14 +64,21 @@ mod tests {
         let check = Choice::Team.next(ms(36), true);
         assert_eq!(check, Choice::Check(ms(36)));
         assert!(!check.team());
-        // One thread was faster: it keeps the frames for a while, then the team is tried again.
-        let mut c = check.next(ms(17), false);
+        // One thread was faster: the team runs one more frame; slower again (busy cores), one
+        // thread keeps the frames for a while, then the team is tried again.
+        let retry = check.next(ms(17), false);
+        assert_eq!(retry, Choice::Retry(ms(17)));
+        assert!(retry.team());
+        let mut c = retry.next(ms(30), true);
         assert_eq!(c, Choice::Alone(ALONE_FRAMES));
         for _ in 0..ALONE_FRAMES {
             assert!(!c.team());
             c = c.next(ms(17), false);
         }
         assert_eq!(c, Choice::Team);
+        // The retried team frame was faster than one thread (the suspect frame met one stall of
+        // the host's): the team runs unchecked for a while.
+        assert_eq!(Choice::Retry(ms(8)).next(ms(5), false), Choice::Trusted(TRUSTED_FRAMES));
         // The team was faster (long groups, not busy cores): it runs unchecked for a while.
         let mut c = Choice::Check(ms(160)).next(ms(260), false);
         assert_eq!(c, Choice::Trusted(TRUSTED_FRAMES));
