@@ -1,13 +1,14 @@
 //! The frame on several threads: every thread of the solver's pool runs the whole substep loop as
 //! one team. Each takes its share of the particles in the per-particle passes and of each large
 //! color group in the sweeps, so one frame costs one wake-up of the pool instead of a fork and
-//! join per group. The team meets at a spin barrier around the per-substep passes (predict,
-//! finish); within a substep's iterations a thread waits for the others only before the part of
-//! its share that touches particles another thread touches too ([`Plan`]), so a thread that is
-//! ahead goes on with the rest of its share instead of waiting at every group. The elements of a
-//! group share no particle, the passes touch each particle alone, and two elements that share a
-//! particle are visited in the order of their groups, so the positions come out the same, bit for
-//! bit, for any thread count. Each thread times its waits, and the solver sums each thread's time
+//! join per group. The team meets at a spin barrier after the prediction and before the finish
+//! pass (which makes the next substep's prediction too, outside the global balance); within a
+//! substep's iterations a thread waits for the others only before the part of its share that
+//! touches particles another thread touches too ([`Plan`]), so a thread that is ahead goes on
+//! with the rest of its share instead of waiting at every group. The elements of a group share no
+//! particle, the passes touch each particle alone, and two elements that share a particle are
+//! visited in the order of their groups, so the positions come out the same, bit for bit, for any
+//! thread count. Each thread times its waits, and the solver sums each thread's time
 //! working and waiting over the team's frames ([`super::TeamTime`]).
 
 use std::cell::Cell;
