@@ -35,6 +35,8 @@ fn simulate_writes_csv_and_obj() {
     assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(stdout.lines().filter(|l| l.starts_with("frame")).count(), 2, "{stdout}");
     assert!(stdout.contains("summary: 5 frames") && stdout.contains("all finite"), "{stdout}");
+    let median = stdout.split("mean solve time (median ").nth(1).and_then(|r| r.split(')').next());
+    assert!(median.and_then(|m| m.parse::<f64>().ok()).is_some_and(|m| m > 0.0), "a median frame time: {stdout}");
     let csv = std::fs::read_to_string(csv).unwrap();
     let rows: Vec<&str> = csv.lines().collect();
     assert_eq!(rows.len(), 6);

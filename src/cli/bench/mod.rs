@@ -11,7 +11,7 @@ mod measure;
 mod output;
 mod peer;
 mod scaling;
-mod timing;
+pub(super) mod timing;
 
 use std::path::PathBuf;
 use std::time::Instant;
