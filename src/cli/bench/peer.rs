@@ -68,19 +68,24 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
         .collect();
     for first in (0..frames).step_by(BLOCK_FRAMES) {
         for (sv, s, split, times, team) in &mut runs {
-            for frame in first..(first + BLOCK_FRAMES as u32).min(frames) {
-                let timed = (frame - first) as usize >= TURN_WARM_FRAMES;
-                let before = TeamSums::of(sv);
+            let turn = first..(first + BLOCK_FRAMES as u32).min(frames);
+            let timed_from = first + TURN_WARM_FRAMES as u32;
+            for frame in turn.clone() {
+                if frame == timed_from {
+                    // The team's time from here to the turn's end is what the timed frames took.
+                    sv.reset_team_time();
+                }
                 let t0 = Instant::now();
                 sv.step_frame(s);
-                let time = t0.elapsed();
-                if timed {
-                    times.push(time.as_secs_f64() * 1e3);
-                    team.add_since(&before, sv);
+                if frame >= timed_from {
+                    times.push(t0.elapsed().as_secs_f64() * 1e3);
                 }
                 let x = &sv.particles.x;
                 split.stretch_grid += metrics::stretch(&grid, &grid_rest, x).0;
                 split.stretch_all += metrics::stretch(&sv.scene().edges, &sv.scene().edge_rest, x).0;
+            }
+            if turn.end > timed_from {
+                team.add(TeamSums::of(sv));
             }
         }
     }
@@ -113,12 +118,11 @@ impl TeamSums {
         TeamSums { frames: t.frames, busy: t.busy.iter().sum(), waited: t.waited.iter().sum() }
     }
 
-    /// Adds what `sv`'s team time gained since `before`.
-    fn add_since(&mut self, before: &TeamSums, sv: &CpuSolver<Vec3A>) {
-        let now = TeamSums::of(sv);
-        self.frames += now.frames - before.frames;
-        self.busy += now.busy.saturating_sub(before.busy);
-        self.waited += now.waited.saturating_sub(before.waited);
+    /// Adds `other`'s sums.
+    fn add(&mut self, other: TeamSums) {
+        self.frames += other.frames;
+        self.busy += other.busy;
+        self.waited += other.waited;
     }
 
     /// The share of the summed time spent waiting; `None` without a team frame.
