@@ -46,3 +46,40 @@ fn plain_solver_results_are_unchanged() {
 }
 
 const EXPECTED: [u64; 3] = [0xc66b44a983547616, 0x8dab3227e4f0c11c, 0xcab9cac3af98f480];
+
+/// The energy ledger's dissipated work (SPEC §4: the final contact pass and the damping), bit for
+/// bit, with contacts and damping, plain and under the global balance (which feeds it back into
+/// the velocities), on one thread and on two.
+#[test]
+fn dissipated_work_is_unchanged() {
+    use eapbd::solver::EnergyAware;
+    let base = Settings { substeps: 3, iterations: 5, damping: 0.5, ..Settings::default() };
+    let cases = [
+        base,
+        Settings { energy_aware: EnergyAware::Global, ..base },
+        Settings { energy_aware: EnergyAware::Local, substeps: 2, iterations: 2, ..base },
+    ];
+    let mut got = Vec::new();
+    for s in cases {
+        for threads in [1, 2] {
+            let scene = scene::build("cloth-sphere", &SceneOptions { resolution: Some(40), ..SceneOptions::default() });
+            let mut sv = CpuSolver::<Vec3A>::new(scene.unwrap());
+            for _ in 0..90 {
+                sv.step_frame(&Settings { threads, ..s });
+            }
+            assert!(sv.ledger.dissipated < -1e-3, "contacts and damping dissipate: {}", sv.ledger.dissipated);
+            got.push((sv.ledger.dissipated.to_bits(), checksum(&sv)));
+        }
+    }
+    println!("{got:#x?}");
+    assert_eq!(got, DISSIPATED);
+}
+
+const DISSIPATED: [(u64, u64); 6] = [
+    (0xbfe91aa8f081f619, 0x11757e7ed7f2fa74),
+    (0xbfe91aa8f081f619, 0x11757e7ed7f2fa74),
+    (0xbfdf7566a9460eca, 0xb336b7209f4b5226),
+    (0xbfdf7566a9460eca, 0xb336b7209f4b5226),
+    (0xbfeccddc949720fb, 0xf35d2a2bad4f04d9),
+    (0xbfeccddc949720fb, 0xf35d2a2bad4f04d9),
+];

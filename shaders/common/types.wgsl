@@ -51,11 +51,12 @@ struct SimParams {
     ab4: f32,
     pad0: f32,
     pad1: f32,
-    // Membranes: number, the compliant form's stiffness scale s (N/m), and C_orth = [[c_uu, c_uv,
-    // 0], [c_uv, c_vv, 0], [0, 0, c_ss]] (N/m).
+    // Membranes: number, the compliant form's stiffness scale s (N/m); 1 when the finish pass
+    // makes the last iteration's contact pass first; then C_orth = [[c_uu, c_uv, 0], [c_uv, c_vv,
+    // 0], [0, 0, c_ss]] (N/m).
     num_membranes: u32,
     membrane_scale: f32,
-    pad2: u32,
+    in_loop_contacts: u32,
     pad3: u32,
     c_uu: f32,
     c_uv: f32,

@@ -79,11 +79,15 @@ fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgrou
     }
 }
 
-// The final contact pass, then v = (x − x_prev)/h · keep; the kinetic energy the pass and the
-// damping changed is added to the particle's dissipated work (mirrors CpuSolver::finish).
+// The last iteration's contact pass (with in_loop_contacts; not counted), the final contact pass,
+// then v = (x − x_prev)/h · keep; the kinetic energy the final pass and the damping changed is
+// added to the particle's dissipated work (mirrors particles::finish on the CPU).
 @compute @workgroup_size(64)
 fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        if (params.in_loop_contacts != 0u) {
+            project_contacts(i);
+        }
         let before = x[i].xyz;
         project_contacts(i);
         let p = x[i];

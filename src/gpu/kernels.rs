@@ -28,9 +28,10 @@ pub struct Kernels {
     pub energy_layout: wgpu::BindGroupLayout,
     /// `predict`.
     pub predict: wgpu::ComputePipeline,
-    /// `contacts` (inside the iteration loop).
+    /// `contacts` (inside the iteration loop, all but the last iteration).
     pub contacts: wgpu::ComputePipeline,
-    /// `finish`: final contact pass and velocity update.
+    /// `finish`: the last iteration's contact pass, the final contact pass and the velocity
+    /// update.
     pub finish: wgpu::ComputePipeline,
     particles_module: wgpu::ShaderModule,
     jacobi_apply: OnceLock<wgpu::ComputePipeline>,

@@ -63,8 +63,11 @@ pub struct SimParams {
     pub num_membranes: u32,
     /// The compliant form's stiffness scale `s` of the membranes (N/m).
     pub membrane_scale: f32,
+    /// 1 when the finish pass makes the last iteration's contact pass first (`iterations > 0`;
+    /// the frame then has no dispatch of its own for it).
+    pub in_loop_contacts: u32,
     /// Padding.
-    pub pad: [u32; 2],
+    pub pad: u32,
     /// The membranes' `C_orth` entries `[c_uu, c_uv, c_vv, c_ss]` (N/m).
     pub membrane: [f32; 4],
 }
@@ -153,7 +156,8 @@ impl SimParams {
             elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
             num_membranes: scene.membranes.as_ref().map_or(0, |f| f.len() as u32),
             membrane_scale: membranes.map_or(1.0, |p| p.scale as f32),
-            pad: [0; 2],
+            in_loop_contacts: (s.iterations > 0) as u32,
+            pad: 0,
             membrane: membranes.map_or([0.0; 4], |p| p.c.map(|v| v as f32)),
         }
     }

@@ -413,8 +413,11 @@ impl GpuSolver {
                         }
                     }
                 }
-                pass.set_pipeline(&k.contacts);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                // The last iteration's contact pass is the finish kernel's first act.
+                if iteration + 1 < s.iterations {
+                    pass.set_pipeline(&k.contacts);
+                    pass.dispatch_workgroups(particle_groups, 1, 1);
+                }
             }
             pass.set_pipeline(&k.finish);
             pass.dispatch_workgroups(particle_groups, 1, 1);
@@ -533,7 +536,9 @@ impl GpuSolver {
             EnergyAware::Local => 1 + present + s.iterations.saturating_sub(1) as u64,
             EnergyAware::Global => present + 3,
         };
-        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration + energy)
+        // The last iteration's contact pass runs in the finish kernel.
+        let in_finish = (s.iterations > 0) as u64;
+        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration - in_finish + energy)
     }
 
     /// Records and submits one frame, without waiting.

@@ -14,18 +14,29 @@ pub(crate) struct Colliders<'a, V: Vector> {
     spheres: &'a [Sphere],
     /// The scene's contact offset (m), added to every sphere's radius.
     offset: V::S,
+    /// The ground's contact height (m), `−∞` without a ground.
+    floor: V::S,
 }
 
 impl<'a, V: Vector> Colliders<'a, V> {
     pub fn new(scene: &'a Scene) -> Self {
         let offset: V::S = scene.contact_offset.into();
         let ground = scene.ground.map(|g| (<V::S as From<f32>>::from(g.height) + offset, g.friction.into()));
-        Colliders { ground, spheres: &scene.spheres, offset }
+        let floor = ground.map_or(V::S::from_f64(f64::NEG_INFINITY), |(floor, _)| floor);
+        Colliders { ground, spheres: &scene.spheres, offset, floor }
+    }
+
+    /// `true` when no collider can move a particle at `x`: no spheres, and `x` at or above the
+    /// ground's contact height (or no ground). One comparison, so that the passes over every
+    /// particle leave the projections to the few it fails for.
+    #[inline(always)]
+    pub fn clear(&self, x: V) -> bool {
+        // Not below the floor: a NaN height passes here as it passes the ground's test.
+        self.spheres.is_empty() && x.get(1).partial_cmp(&self.floor) != Some(std::cmp::Ordering::Less)
     }
 
     /// A free particle at `x` (start of substep `x_prev`) projected out of the ground, then out
-    /// of each sphere; `None` when no collider moved it.
-    #[inline]
+    /// of each sphere; `None` when no collider moved it (always where [`Colliders::clear`]).
     pub fn project(&self, mut x: V, x_prev: V) -> Option<V> {
         let zero = V::S::zero();
         let mut moved = false;
@@ -65,6 +76,7 @@ pub(crate) fn project_range<V: Vector>(scene: &Scene, x: &mut [V], x_prev: &[V],
     let colliders = Colliders::new(scene);
     for ((x, &x_prev), &w) in x.iter_mut().zip(x_prev).zip(w) {
         if w > V::S::zero()
+            && !colliders.clear(*x)
             && let Some(p) = colliders.project(*x, x_prev)
         {
             *x = p;

@@ -14,7 +14,7 @@ use crate::scene::{FAMILY_COUNT, Family, Scene};
 use super::contacts::project_contacts;
 use super::energy::{EnergyAware, global_scale, local_constraint};
 use super::jacobi;
-use super::particles;
+use super::particles::{self, FinishStep};
 use super::shared::Prechecked;
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
@@ -297,10 +297,14 @@ impl<V: Vector> CpuSolver<V> {
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
             }
-            project_contacts(&self.scene, &mut self.particles);
+            // The last iteration's contact pass is the finish pass's first act.
+            if iteration + 1 < s.iterations {
+                project_contacts(&self.scene, &mut self.particles);
+            }
         }
         let next = predict_next.then(|| V::from_vec3(self.scene.gravity));
-        let work = self.finish((k.h, s.damping.into(), next));
+        let work =
+            self.finish(FinishStep { h: k.h, damping: s.damping.into(), next, in_loop_contacts: s.iterations > 0 });
         self.ledger.dissipated += work;
         if let Some(h0) = h0 {
             self.balance(h0, work);
@@ -334,10 +338,10 @@ impl<V: Vector> CpuSolver<V> {
         particles::predict(&mut p.x, &mut p.x_prev, &mut p.v, &p.w, g, h);
     }
 
-    /// The final contact pass and the velocity update ([`particles::finish`], with the next
-    /// substep's prediction where `next` is the gravity); returns the work of physical
-    /// dissipation `W` (J, ≤ 0 for losses), summed block by block.
-    fn finish(&mut self, step: (V::S, V::S, Option<V>)) -> f64 {
+    /// The final contact pass and the velocity update ([`particles::finish`], with the last
+    /// iteration's contact pass and the next substep's prediction as `step` says); returns the
+    /// work of physical dissipation `W` (J, ≤ 0 for losses), summed block by block.
+    fn finish(&mut self, step: FinishStep<V>) -> f64 {
         let p = &mut self.particles;
         particles::finish(&self.scene, &mut p.x, &mut p.x_prev, &mut p.v, &p.w, step, &mut self.work_blocks);
         self.work_blocks.iter().sum()

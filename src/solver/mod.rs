@@ -9,6 +9,11 @@
 //! 4. the final contact pass;
 //! 5. `v = (x − x_prev) / h`, then `v ← v (1 − β_v h)`;
 //! 6. with `--energy-aware global`, the energy balance of [`energy`] scales the velocities.
+//!
+//! Where the order allows it, passes over the particles share one visit of each particle, with
+//! the same bits as the passes one after the other: the last iteration's contact projection, the
+//! final contact pass and the velocity update, and (outside the global balance) the next
+//! substep's prediction.
 
 mod barrier;
 mod contacts;

@@ -90,27 +90,45 @@ fn predict_one<V: Vector>(x: &mut V, x_prev: &mut V, v: &mut V, w: V::S, g: V, h
     }
 }
 
+/// What a finish pass ([`finish`]) does for a substep of `h` seconds (s).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct FinishStep<V: Vector> {
+    /// The substep `h` (s).
+    pub h: V::S,
+    /// The velocity damping `β_v` (1/s).
+    pub damping: V::S,
+    /// The next substep's gravity (m/s²), to make its [`predict`] in the same visit; `None` for
+    /// the frame's last substep and the global balance.
+    pub next: Option<V>,
+    /// The last iteration's in-loop contact pass is made here, just before the final one: the
+    /// sweeps before it are over, so each particle's projection is the same as in a pass of its
+    /// own (and, as there, not counted as work).
+    pub in_loop_contacts: bool,
+}
+
 /// The final contact pass and the velocity update over a range of particles that starts at a
 /// block boundary: `v = (x − x_prev)/h · keep` with `keep = max(1 − β_v h, 0)`. Writes, per
 /// [`WORK_BLOCK`] particles, the work of physical dissipation (J, ≤ 0 for losses): the kinetic
-/// energy the contact pass and the damping changed, with velocities `(x − x_prev)/h` before and
-/// after the pass. With `next = Some(g)` each particle then takes the next substep's
-/// [`predict`] under gravity `g` (m/s²) in the same visit: the same bits as the two passes one
-/// after the other, with one sweep over the particles instead of two.
+/// energy the final contact pass and the damping changed, with velocities `(x − x_prev)/h` before
+/// and after that pass. With `next = Some(g)` each particle then takes the next substep's
+/// [`predict`] under gravity `g` (m/s²) in the same visit, and with `in_loop_contacts` the last
+/// iteration's contact pass comes first in that visit: the same bits as the passes one after the
+/// other, with one sweep over the particles instead of three.
 pub(crate) fn finish<V: Vector>(
     scene: &Scene,
     x: &mut [V],
     x_prev: &mut [V],
     v: &mut [V],
     w: &[V::S],
-    (h, damping, next): (V::S, V::S, Option<V>),
+    step: FinishStep<V>,
     work: &mut [f64],
 ) {
+    let FinishStep { h, damping, next, in_loop_contacts } = step;
     let keep = (V::S::one() - damping * h).max(V::S::zero());
     let inv_h = V::S::one() / h;
     let (scale, damped) = (inv_h * keep, keep != V::S::one());
-    let (keep64, inv_h64) = (keep.to_f64(), inv_h.to_f64());
     let colliders = Colliders::new(scene);
+    let settle = Settle { colliders, in_loop_contacts, damped, keep: keep.to_f64(), inv_h: inv_h.to_f64() };
     for (b, sum) in work.iter_mut().enumerate() {
         let r = (b * WORK_BLOCK).min(x.len())..((b + 1) * WORK_BLOCK).min(x.len());
         let (x, x_prev, v, w) = (&mut x[r.clone()], &mut x_prev[r.clone()], &mut v[r.clone()], &w[r]);
@@ -118,21 +136,9 @@ pub(crate) fn finish<V: Vector>(
         for (((x, x_prev_slot), v), &w) in x.iter_mut().zip(x_prev).zip(v).zip(w) {
             let x_prev = *x_prev_slot;
             if w > V::S::zero() {
-                let before = *x;
-                let moved = match colliders.project(before, x_prev) {
-                    Some(p) => {
-                        *x = p;
-                        true
-                    }
-                    None => false,
-                };
-                // Both terms vanish (exactly) for a particle the pass left alone without damping.
-                if moved || damped {
-                    let m = 1.0 / w.to_f64();
-                    let vb = (before.to_dvec3() - x_prev.to_dvec3()) * inv_h64;
-                    let va = (x.to_dvec3() - x_prev.to_dvec3()) * inv_h64;
-                    *sum += 0.5 * m * (va.length_squared() - vb.length_squared());
-                    *sum += 0.5 * m * va.length_squared() * (keep64 * keep64 - 1.0);
+                // Nothing to project and no damping: nothing to do but the velocity.
+                if damped || !settle.colliders.clear(*x) {
+                    settle.particle(x, x_prev, w, sum);
                 }
                 *v = (*x - x_prev) * scale;
             } else {
@@ -145,35 +151,77 @@ pub(crate) fn finish<V: Vector>(
     }
 }
 
+/// The contact passes and the dissipation's work of [`finish`] for the particles that need them.
+struct Settle<'a, V: Vector> {
+    colliders: Colliders<'a, V>,
+    in_loop_contacts: bool,
+    /// `β_v > 0`: the damping does work on every free particle.
+    damped: bool,
+    /// `max(1 − β_v h, 0)` and `1/h` (1/s), in `f64`.
+    keep: f64,
+    inv_h: f64,
+}
+
+impl<V: Vector> Settle<'_, V> {
+    /// Projects the free particle at `x` (mass `1/w`, start of substep `x_prev`): with
+    /// `in_loop_contacts` the in-loop projection, then the final one of what it left (a particle
+    /// the first left alone the second leaves too: the same function of the same positions).
+    /// Adds to `sum` the work (J) of the final pass and of the damping, with velocities
+    /// `(x − x_prev)/h` before and after the final pass.
+    #[inline(never)]
+    fn particle(&self, x: &mut V, x_prev: V, w: V::S, sum: &mut f64) {
+        let first = self.colliders.project(*x, x_prev);
+        let (before, last) = match first {
+            Some(p) if self.in_loop_contacts => (p, self.colliders.project(p, x_prev)),
+            _ => (*x, first),
+        };
+        *x = last.unwrap_or(before);
+        // Both terms vanish (exactly) for a particle the final pass left alone without damping.
+        if last.is_none() && !self.damped {
+            return;
+        }
+        let m = 1.0 / w.to_f64();
+        let vb = (before.to_dvec3() - x_prev.to_dvec3()) * self.inv_h;
+        let va = (x.to_dvec3() - x_prev.to_dvec3()) * self.inv_h;
+        *sum += 0.5 * m * (va.length_squared() - vb.length_squared());
+        *sum += 0.5 * m * va.length_squared() * (self.keep * self.keep - 1.0);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::scene::{SceneOptions, build};
     use glam::Vec3A;
 
-    /// The finish pass that makes the next prediction gives the same bits as the two passes,
-    /// for free and pinned particles, with particles inside the sphere and with damping.
+    /// The finish pass that makes the last iteration's contact pass and the next prediction gives
+    /// the same bits as the three passes, for free and pinned particles, with particles inside
+    /// the sphere and the ground and with damping.
     #[test]
-    fn finish_with_the_next_prediction_is_the_two_passes() {
+    fn finish_with_the_contacts_and_the_next_prediction_is_the_three_passes() {
         let scene = build("cloth-sphere", &SceneOptions { resolution: Some(12), ..SceneOptions::default() }).unwrap();
         let start = Particles::<Vec3A>::from_scene(&scene);
         let n = start.len();
         let (g, h, damping) = (Vec3A::new(0.0, -9.81, 0.0), 1.0 / 180.0, 0.3);
         let mut a = start.clone();
         a.w[0] = 0.0;
-        // Positions spread towards the origin, some inside the sphere, and velocities, so that
-        // contacts and damping act.
+        // Positions spread towards a point under the ground, some inside the sphere, and
+        // velocities, so that contacts and damping act.
         for (i, (x, v)) in a.x.iter_mut().zip(&mut a.v).enumerate() {
-            *x = Vec3A::new(0.0, 0.0, 0.0).lerp(*x, (i % 7) as f32 / 6.0);
+            *x = Vec3A::new(0.0, -0.02, 0.0).lerp(*x, (i % 7) as f32 / 6.0);
             *v = Vec3A::new(0.1, -((i % 5) as f32), 0.2);
         }
         a.x_prev = a.x.iter().map(|x| *x + Vec3A::new(0.01, 0.02, -0.01)).collect();
         let mut b = a.clone();
+        let mut c = a.clone();
         let blocks = n.div_ceil(WORK_BLOCK);
         let (mut work_a, mut work_b) = (vec![0.0; blocks], vec![0.0; blocks]);
-        finish(&scene, &mut a.x, &mut a.x_prev, &mut a.v, &a.w, (h, damping, None), &mut work_a);
+        crate::solver::contacts::project_contacts(&scene, &mut a);
+        let alone = FinishStep { h, damping, next: None, in_loop_contacts: false };
+        finish(&scene, &mut a.x, &mut a.x_prev, &mut a.v, &a.w, alone, &mut work_a);
         predict(&mut a.x, &mut a.x_prev, &mut a.v, &a.w, g, h);
-        finish(&scene, &mut b.x, &mut b.x_prev, &mut b.v, &b.w, (h, damping, Some(g)), &mut work_b);
+        let fused = FinishStep { h, damping, next: Some(g), in_loop_contacts: true };
+        finish(&scene, &mut b.x, &mut b.x_prev, &mut b.v, &b.w, fused, &mut work_b);
         let bits = |p: &Particles<Vec3A>| {
             let all = p.x.iter().chain(&p.x_prev).chain(&p.v);
             all.flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>()
@@ -185,5 +233,12 @@ mod tests {
         );
         assert!(work_a.iter().any(|&w| w != 0.0), "the contacts and the damping did work: {work_a:?}");
         assert_ne!(bits(&a), bits(&start), "the passes changed the state");
+        // Without the in-loop pass the final one meets the penetrations and counts what they
+        // change of the kinetic energy.
+        let mut work_c = vec![0.0; blocks];
+        let no_loop = FinishStep { h, damping, next: Some(g), in_loop_contacts: false };
+        finish(&scene, &mut c.x, &mut c.x_prev, &mut c.v, &c.w, no_loop, &mut work_c);
+        let (with, without) = (work_b.iter().sum::<f64>(), work_c.iter().sum::<f64>());
+        assert!((without - with).abs() > 1e-3, "the final pass alone counts more: {without} against {with}");
     }
 }

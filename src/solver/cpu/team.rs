@@ -22,7 +22,7 @@ use super::super::barrier::{SpinBarrier, Waited, share};
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
 use super::super::jacobi;
-use super::super::particles;
+use super::super::particles::{self, FinishStep};
 use super::super::shared::{Prechecked, SharedPositions};
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
@@ -227,9 +227,11 @@ impl<V: Vector> CpuSolver<V> {
                             }
                             *x += d;
                         }
-                        let x_prev = &v.x_prev.read_all()[mine.clone()];
-                        project_range(scene, v.x.range_mut(mine.clone()), x_prev, &w[mine.clone()]);
-                        me.meet();
+                        if iteration + 1 < s.iterations {
+                            let x_prev = &v.x_prev.read_all()[mine.clone()];
+                            project_range(scene, v.x.range_mut(mine.clone()), x_prev, &w[mine.clone()]);
+                            me.meet();
+                        }
                         continue;
                     }
                     crate::for_each_family!(scene, |i, f| {
@@ -239,7 +241,8 @@ impl<V: Vector> CpuSolver<V> {
                         let w = (w, v.w_lanes[i]);
                         team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
-                    if let Some(parts) = &plan.contacts {
+                    // The last iteration's contact pass is the finish pass's first act.
+                    if let Some(parts) = plan.contacts.as_ref().filter(|_| iteration + 1 < s.iterations) {
                         let x_prev = v.x_prev.read_all();
                         me.step(&parts[me.t], &mut step, |r| {
                             project_range(scene, v.x.range_mut(r.clone()), &x_prev[r.clone()], &w[r])
@@ -252,7 +255,8 @@ impl<V: Vector> CpuSolver<V> {
                 let vel = v.v.range_mut(mine.clone());
                 let next = (fuse && !last).then_some(g);
                 let work = v.work.range_mut(my_blocks.clone());
-                particles::finish(scene, x, x_prev, vel, &w[mine.clone()], (k.h, damping, next), work);
+                let step = FinishStep { h: k.h, damping, next, in_loop_contacts: s.iterations > 0 };
+                particles::finish(scene, x, x_prev, vel, &w[mine.clone()], step, work);
                 if fuse && !last {
                     // This thread predicted its particles for the next substep in the same pass;
                     // the next barrier comes after the multipliers' reset.
@@ -283,7 +287,9 @@ impl<V: Vector> CpuSolver<V> {
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
         let per_substep = if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
         let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
-        let substeps = s.substeps as usize * (per_substep + s.iterations as usize * per_iteration);
+        // The last iteration's contact pass runs in the finish pass, without a wait of its own.
+        let in_finish = if jacobi { 1 } else { plan.contacts.is_some() as usize } * (s.iterations > 0) as usize;
+        let substeps = s.substeps as usize * (per_substep + s.iterations as usize * per_iteration - in_finish);
         let waits = threads * (substeps + fuse as usize);
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
