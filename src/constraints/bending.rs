@@ -225,10 +225,10 @@ impl Element<4> for Bend {
         let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, Lanes::ZERO);
         let mask = ok.to_bitmask();
         simd::store_masked(lambda, lam + dl, mask);
-        simd::scatter_add(x, &idx[0], g0 * (ws[0] * dl), mask);
-        simd::scatter_add(x, &idx[1], g1 * (ws[1] * dl), mask);
-        simd::scatter_add(x, &idx[2], g2 * (ws[2] * dl), mask);
-        simd::scatter_add(x, &idx[3], g3 * (ws[3] * dl), mask);
+        simd::scatter(x, &idx[0], xs[0] + g0 * (ws[0] * dl), mask);
+        simd::scatter(x, &idx[1], xs[1] + g1 * (ws[1] * dl), mask);
+        simd::scatter(x, &idx[2], xs[2] + g2 * (ws[2] * dl), mask);
+        simd::scatter(x, &idx[3], xs[3] + g3 * (ws[3] * dl), mask);
         !mask & ((1 << WIDTH) - 1)
     }
 }

@@ -211,23 +211,6 @@ pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: &[usi
     }
 }
 
-/// Adds lane `l` of `d` to particle `idx[l]` for every lane set in `mask`: each particle is
-/// loaded again here rather than kept in registers since the [`gather`], and the sum is the same
-/// per component as `x + d` computed in lanes.
-#[inline(always)]
-pub(crate) fn scatter_add<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: &[usize; WIDTH], d: V3, mask: u32) {
-    let (dx, dy, dz) = (split(d.x), split(d.y), split(d.z));
-    for q in 0..QUARTERS {
-        let t = wide::f32x4::transpose([dx[q], dy[q], dz[q], wide::f32x4::ZERO]);
-        for (l, t) in t.into_iter().enumerate() {
-            let i = idx[4 * q + l];
-            if mask == (1 << WIDTH) - 1 || mask & (1 << (4 * q + l)) != 0 {
-                x.set(i, V::from_quad(x.get(i).to_quad() + t));
-            }
-        }
-    }
-}
-
 /// `atan2(y, x)` lane by lane with the operations of the scalar `f32` `fast_atan2`, and a mask of
 /// the lanes it covers: the others (zero, infinite or NaN inputs) are left to the scalar path.
 #[inline(always)]
