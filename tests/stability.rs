@@ -63,4 +63,5 @@ fn quick_stability_report_keeps_every_documented_pass() {
         .filter(|((c, b), r)| b == "cpu" && r["status"] == "pass" && quick.contains_key(&(c.clone(), b.clone())));
     assert!(documented_cpu_passes.count() >= 8, "the quick subset covers too few documented passes");
     assert!(checked >= 18, "only {checked} documented passes were checked");
+    let _ = std::fs::remove_dir_all(&dir);
 }
