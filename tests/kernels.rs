@@ -285,6 +285,8 @@ fn the_team_reports_its_time_working_and_waiting() {
     assert_eq!((t.busy.len(), t.waited.len()), (2, 2));
     assert!(t.busy.iter().all(|b| !b.is_zero()), "{t:?}");
     assert!((0.0..1.0).contains(&t.wait_fraction()), "{t:?}");
+    assert!((0.0..=1.0).contains(&t.barrier_fraction()), "{t:?}");
+    assert!(t.at_barriers.iter().zip(&t.waited).all(|(a, w)| a <= w), "{t:?}");
     sv.reset_team_time();
     assert_eq!(sv.team_time().frames, 0);
     // Frames on one thread are not counted.

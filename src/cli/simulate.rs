@@ -152,10 +152,12 @@ fn team_line(t: &eapbd::solver::TeamTime) -> Option<String> {
     let ms = |d: &std::time::Duration| d.as_secs_f64() * 1e3 / f64::from(t.frames);
     let each: Vec<String> = t.busy.iter().zip(&t.waited).map(|(b, w)| format!("{:.3}/{:.3}", ms(b), ms(w))).collect();
     Some(format!(
-        "team: {} frames on {} threads, waiting {:.1} % of their time; ms/frame working/waiting per thread: {}",
+        "team: {} frames on {} threads, waiting {:.1} % of their time ({:.0} % of the waits at the barriers, the \
+         rest before boundary parts); ms/frame working/waiting per thread: {}",
         t.frames,
         t.busy.len(),
         100.0 * t.wait_fraction(),
+        100.0 * t.barrier_fraction(),
         each.join(", ")
     ))
 }

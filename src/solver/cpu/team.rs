@@ -73,6 +73,8 @@ struct Member<'a> {
     slept: Cell<usize>,
     /// This thread's time spent waiting for the others, at the barrier and before steps.
     waited: Cell<Duration>,
+    /// The part of `waited` spent at the barrier.
+    at_barrier: Cell<Duration>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -153,6 +155,7 @@ impl<V: Vector> CpuSolver<V> {
                 plan,
                 slept: Cell::new(0),
                 waited: Cell::default(),
+                at_barrier: Cell::default(),
             };
             let mut v = views;
             let (mine, my_blocks) = particle_share(n, me.t, threads);
@@ -280,10 +283,10 @@ impl<V: Vector> CpuSolver<V> {
                 }
             }
             let waited = me.waited.get();
-            (ledger, me.slept.get(), start.elapsed().saturating_sub(waited), waited)
+            (ledger, me.slept.get(), start.elapsed().saturating_sub(waited), waited, me.at_barrier.get())
         });
         self.ledger = totals[0].0;
-        self.team_time.add(totals.iter().map(|t| (t.2, t.3)));
+        self.team_time.add(totals.iter().map(|t| (t.2, t.3, t.4)));
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
         let per_substep = if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
         let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
@@ -300,7 +303,9 @@ impl Member<'_> {
     /// Waits at the team's barrier for the other threads.
     #[inline]
     fn meet(&self) {
-        self.count(self.barrier.wait());
+        let waited = self.barrier.wait();
+        self.at_barrier.set(self.at_barrier.get() + waited.time);
+        self.count(waited);
     }
 
     /// Adds a wait's time to this thread's.

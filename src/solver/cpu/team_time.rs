@@ -15,21 +15,23 @@ pub struct TeamTime {
     pub busy: Vec<Duration>,
     /// Per thread: its time spent waiting for the other threads.
     pub waited: Vec<Duration>,
+    /// Per thread: the part of `waited` spent at the team's barriers around the per-substep
+    /// passes (the rest went to waits before the boundary parts of the steps).
+    pub at_barriers: Vec<Duration>,
 }
 
 impl TeamTime {
-    /// Adds one team frame: `(busy, waited)` per thread.
-    pub(super) fn add(&mut self, threads: impl ExactSizeIterator<Item = (Duration, Duration)>) {
+    /// Adds one team frame: `(busy, waited, at barriers)` per thread.
+    pub(super) fn add(&mut self, threads: impl ExactSizeIterator<Item = (Duration, Duration, Duration)>) {
         if self.busy.len() != threads.len() {
-            *self = TeamTime {
-                frames: 0,
-                busy: vec![Duration::ZERO; threads.len()],
-                waited: vec![Duration::ZERO; threads.len()],
-            };
+            let zero = vec![Duration::ZERO; threads.len()];
+            *self = TeamTime { frames: 0, busy: zero.clone(), waited: zero.clone(), at_barriers: zero };
         }
-        for ((busy, waited), (b, w)) in self.busy.iter_mut().zip(&mut self.waited).zip(threads) {
+        let sums = self.busy.iter_mut().zip(&mut self.waited).zip(&mut self.at_barriers);
+        for (((busy, waited), at_barriers), (b, w, a)) in sums.zip(threads) {
             *busy += b;
             *waited += w;
+            *at_barriers += a;
         }
         self.frames += 1;
     }
@@ -39,6 +41,7 @@ impl TeamTime {
         self.frames = 0;
         self.busy.fill(Duration::ZERO);
         self.waited.fill(Duration::ZERO);
+        self.at_barriers.fill(Duration::ZERO);
     }
 
     /// The fraction of the threads' time spent waiting, `Σ waited / Σ (busy + waited)` over the
@@ -51,6 +54,16 @@ impl TeamTime {
             false => waited.as_secs_f64() / total.as_secs_f64(),
         }
     }
+
+    /// The share of the threads' waiting time spent at the barriers, `Σ at_barriers / Σ waited`
+    /// (0 without waits).
+    pub fn barrier_fraction(&self) -> f64 {
+        let waited: Duration = self.waited.iter().sum();
+        match waited.is_zero() {
+            true => 0.0,
+            false => self.at_barriers.iter().sum::<Duration>().as_secs_f64() / waited.as_secs_f64(),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -61,18 +74,22 @@ mod tests {
     fn frames_add_up_per_thread() {
         let ms = Duration::from_millis;
         let mut t = TeamTime::default();
-        assert_eq!(t.wait_fraction(), 0.0);
-        t.add([(ms(3), ms(1)), (ms(4), ms(0))].into_iter());
-        t.add([(ms(3), ms(1)), (ms(2), ms(2))].into_iter());
+        assert_eq!((t.wait_fraction(), t.barrier_fraction()), (0.0, 0.0));
+        t.add([(ms(3), ms(1), ms(1)), (ms(4), ms(0), ms(0))].into_iter());
+        t.add([(ms(3), ms(1), ms(0)), (ms(2), ms(2), ms(1))].into_iter());
         assert_eq!(t.frames, 2);
         assert_eq!(t.busy, [ms(6), ms(6)]);
         assert_eq!(t.waited, [ms(2), ms(2)]);
+        assert_eq!(t.at_barriers, [ms(1), ms(1)]);
         assert!((t.wait_fraction() - 0.25).abs() < 1e-12);
+        assert!((t.barrier_fraction() - 0.5).abs() < 1e-12);
         // Another thread count starts the sums again.
-        t.add([(ms(1), ms(1)), (ms(1), ms(1)), (ms(1), ms(1))].into_iter());
-        assert_eq!((t.frames, t.busy.len()), (1, 3));
+        let one = (ms(1), ms(1), ms(0));
+        t.add([one, one, one].into_iter());
+        assert_eq!((t.frames, t.busy.len(), t.at_barriers.len()), (1, 3, 3));
         assert!((t.wait_fraction() - 0.5).abs() < 1e-12);
+        assert_eq!(t.barrier_fraction(), 0.0);
         t.clear();
-        assert_eq!((t.frames, t.busy.len(), t.wait_fraction()), (0, 3, 0.0));
+        assert_eq!((t.frames, t.busy.len(), t.wait_fraction(), t.barrier_fraction()), (0, 3, 0.0, 0.0));
     }
 }
