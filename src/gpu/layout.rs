@@ -156,7 +156,7 @@ impl SimParams {
             elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
             num_membranes: scene.membranes.as_ref().map_or(0, |f| f.len() as u32),
             membrane_scale: membranes.map_or(1.0, |p| p.scale as f32),
-            in_loop_contacts: (s.iterations > 0) as u32,
+            in_loop_contacts: s.contacts_in_finish() as u32,
             pad: 0,
             membrane: membranes.map_or([0.0; 4], |p| p.c.map(|v| v as f32)),
         }

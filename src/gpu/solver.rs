@@ -413,8 +413,7 @@ impl GpuSolver {
                         }
                     }
                 }
-                // The last iteration's contact pass is the finish kernel's first act.
-                if iteration + 1 < s.iterations {
+                if s.contacts_in_loop(iteration) {
                     pass.set_pipeline(&k.contacts);
                     pass.dispatch_workgroups(particle_groups, 1, 1);
                 }
@@ -537,7 +536,7 @@ impl GpuSolver {
             EnergyAware::Global => present + 3,
         };
         // The last iteration's contact pass runs in the finish kernel.
-        let in_finish = (s.iterations > 0) as u64;
+        let in_finish = s.contacts_in_finish() as u64;
         s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration - in_finish + energy)
     }
 

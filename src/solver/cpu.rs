@@ -297,14 +297,13 @@ impl<V: Vector> CpuSolver<V> {
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
             }
-            // The last iteration's contact pass is the finish pass's first act.
-            if iteration + 1 < s.iterations {
+            if s.contacts_in_loop(iteration) {
                 project_contacts(&self.scene, &mut self.particles);
             }
         }
         let next = predict_next.then(|| V::from_vec3(self.scene.gravity));
-        let work =
-            self.finish(FinishStep { h: k.h, damping: s.damping.into(), next, in_loop_contacts: s.iterations > 0 });
+        let in_loop_contacts = s.contacts_in_finish();
+        let work = self.finish(FinishStep { h: k.h, damping: s.damping.into(), next, in_loop_contacts });
         self.ledger.dissipated += work;
         if let Some(h0) = h0 {
             self.balance(h0, work);

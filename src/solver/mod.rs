@@ -124,6 +124,19 @@ impl Settings {
         self.dt / self.substeps as f32
     }
 
+    /// `true` when iteration `iteration`'s contact pass runs as a pass of its own: every
+    /// iteration's but the last, whose pass the finish pass makes first (same bits, one pass over
+    /// the particles fewer a substep).
+    pub(crate) fn contacts_in_loop(&self, iteration: u32) -> bool {
+        iteration + 1 < self.iterations
+    }
+
+    /// `true` when the finish pass makes the last iteration's contact pass (there is an
+    /// iteration).
+    pub(crate) fn contacts_in_finish(&self) -> bool {
+        self.iterations > 0
+    }
+
     /// Rejects values that cannot give a meaningful simulation.
     pub fn validate(&self) -> Result<()> {
         let finite_pos = |v: f32| v.is_finite() && v > 0.0;

@@ -230,7 +230,7 @@ impl<V: Vector> CpuSolver<V> {
                             }
                             *x += d;
                         }
-                        if iteration + 1 < s.iterations {
+                        if s.contacts_in_loop(iteration) {
                             let x_prev = &v.x_prev.read_all()[mine.clone()];
                             project_range(scene, v.x.range_mut(mine.clone()), x_prev, &w[mine.clone()]);
                             me.meet();
@@ -244,8 +244,7 @@ impl<V: Vector> CpuSolver<V> {
                         let w = (w, v.w_lanes[i]);
                         team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
-                    // The last iteration's contact pass is the finish pass's first act.
-                    if let Some(parts) = plan.contacts.as_ref().filter(|_| iteration + 1 < s.iterations) {
+                    if let Some(parts) = plan.contacts.as_ref().filter(|_| s.contacts_in_loop(iteration)) {
                         let x_prev = v.x_prev.read_all();
                         me.step(&parts[me.t], &mut step, |r| {
                             project_range(scene, v.x.range_mut(r.clone()), &x_prev[r.clone()], &w[r])
@@ -258,7 +257,7 @@ impl<V: Vector> CpuSolver<V> {
                 let vel = v.v.range_mut(mine.clone());
                 let next = (fuse && !last).then_some(g);
                 let work = v.work.range_mut(my_blocks.clone());
-                let step = FinishStep { h: k.h, damping, next, in_loop_contacts: s.iterations > 0 };
+                let step = FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish() };
                 particles::finish(scene, x, x_prev, vel, &w[mine.clone()], step, work);
                 if fuse && !last {
                     // This thread predicted its particles for the next substep in the same pass;
@@ -291,7 +290,7 @@ impl<V: Vector> CpuSolver<V> {
         let per_substep = if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
         let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
         // The last iteration's contact pass runs in the finish pass, without a wait of its own.
-        let in_finish = if jacobi { 1 } else { plan.contacts.is_some() as usize } * (s.iterations > 0) as usize;
+        let in_finish = if jacobi { 1 } else { plan.contacts.is_some() as usize } * s.contacts_in_finish() as usize;
         let substeps = s.substeps as usize * (per_substep + s.iterations as usize * per_iteration - in_finish);
         let waits = threads * (substeps + fuse as usize);
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
