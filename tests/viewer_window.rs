@@ -11,9 +11,10 @@ use std::time::{Duration, Instant};
 
 const WIDTH: u32 = 1024;
 const HEIGHT: u32 = 640;
-/// Mean absolute difference per channel (0–255) allowed against the reference: the FPS and
-/// timing figures in the panel differ between runs.
-const MEAN_TOLERANCE: f64 = 3.0;
+/// Mean absolute difference per channel (0–255) allowed against the reference. The FPS and
+/// timing figures in the panel differ between runs by about 0.02; one more row in the control
+/// panel (every widget below it moved by a row) differs by about 3, and must fail.
+const MEAN_TOLERANCE: f64 = 0.5;
 /// The viewer must finish within this time.
 const TIMEOUT: Duration = Duration::from_secs(240);
 
