@@ -68,6 +68,7 @@ fn check_golden(img: &image::RgbaImage, file: &str) {
         .to_rgba8();
     assert_eq!(reference.dimensions(), img.dimensions());
     let diff = mean_abs_diff(img, &reference);
+    eprintln!("{file}: mean difference from the reference {diff:.3} of 255");
     if diff >= MEAN_TOLERANCE {
         let out = std::env::temp_dir().join(file.replace(".png", "_actual.png"));
         save_png(img, &out).unwrap();
