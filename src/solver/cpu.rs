@@ -95,6 +95,8 @@ pub struct CpuSolver<V: Vector> {
     last: Option<StepConstants<V::S>>,
     /// The finish pass's work per block of particles ([`particles::WORK_BLOCK`]).
     work_blocks: Vec<f64>,
+    /// The team's work per block, one row of blocks per substep of a frame.
+    team_work: Vec<f64>,
     /// The solver's pool for a thread count above one (built on first use).
     pool: Option<(u32, Arc<rayon::ThreadPool>)>,
     /// Whether the next frame runs on the team or on one thread ([`choice::Choice`]).
@@ -133,6 +135,7 @@ impl<V: Vector> CpuSolver<V> {
             rest_com: scene.rest_center_of_mass(),
             last: None,
             work_blocks: vec![0.0; n.div_ceil(particles::WORK_BLOCK)],
+            team_work: Vec::new(),
             pool: None,
             choice: choice::Choice::default(),
             splittable,

@@ -1,6 +1,6 @@
-//! The team's plan for one thread count: every thread's share of every step of an iteration (a
-//! color group, or the contact pass over the particles), and the part of each share that may
-//! touch a particle another thread touches in some step (its *boundary*).
+//! The team's plan for one thread count: every thread's share of every step of a substep (a
+//! color group, the contact pass over the particles, or the finish pass), and the part of each
+//! share that may touch a particle another thread touches in some step (its *boundary*).
 //!
 //! Only boundary parts order the threads ([`Progress`]): a thread starts the boundary part
 //! of step `s` once every other thread has finished the boundary parts of the steps before `s`,
@@ -54,6 +54,9 @@ pub(super) struct Plan {
     /// The contact pass's parts (`[t]`: thread `t`'s block of particles), when the scene has
     /// colliders.
     pub contacts: Option<Vec<Part>>,
+    /// The finish pass's parts (`[t]`: thread `t`'s block of particles, its boundary aligned to
+    /// whole [`WORK_BLOCK`]s), for substeps chained without a barrier (`cpu/team.rs`).
+    pub finish: Vec<Part>,
     /// Steps of one iteration that wait for other threads: color groups and the contact pass.
     pub steps: usize,
     /// The threads' finished steps during a frame.
@@ -95,11 +98,11 @@ impl Plan {
                 false => FamilyPlan::Whole,
             }
         });
-        if contacts {
-            for t in 0..threads {
-                for p in particle_share(n, t, threads).0 {
-                    touched[p] |= bit(t);
-                }
+        // The per-particle passes (the finish pass, and the contact pass when there are
+        // colliders) are steps too.
+        for t in 0..threads {
+            for p in particle_share(n, t, threads).0 {
+                touched[p] |= bit(t);
             }
         }
         let shared = |p: usize| touched[p].count_ones() > 1;
@@ -110,17 +113,22 @@ impl Plan {
                 steps += f.colors.len();
             }
         });
-        let contacts = contacts.then(|| {
-            steps += 1;
+        // Thread `t`'s block of particles, its boundary aligned to `align` particles.
+        let particle_parts = |align: usize| -> Vec<Part> {
             (0..threads)
                 .map(|t| {
                     let share = particle_share(n, t, threads).0;
-                    let boundary = boundary(share.clone(), 1, shared);
+                    let boundary = boundary(share.clone(), align, shared);
                     Part { share, boundary }
                 })
                 .collect()
+        };
+        let contacts = contacts.then(|| {
+            steps += 1;
+            particle_parts(1)
         });
-        Plan { threads, families, contacts, steps, progress: Progress::new(threads) }
+        let finish = particle_parts(WORK_BLOCK);
+        Plan { threads, families, contacts, finish, steps, progress: Progress::new(threads) }
     }
 }
 
@@ -211,6 +219,18 @@ mod tests {
                 }
             }
             assert!(plan.steps > bends.colors.len());
+            // The finish pass's parts: every thread's block of particles, the boundary in whole
+            // work blocks and holding every particle another thread touches in a sweep.
+            for (t, part) in plan.finish.iter().enumerate() {
+                assert_eq!(part.share, particle_share(scene.num_particles(), t, threads).0);
+                assert_eq!((part.boundary.start - part.share.start) % WORK_BLOCK, 0);
+                assert!(part.boundary.end == part.share.end || part.boundary.end % WORK_BLOCK == 0);
+                for r in part.interior() {
+                    for p in r {
+                        assert!(owners[p] & !(1 << t) == 0, "particle {p} of thread {t}'s finish interior");
+                    }
+                }
+            }
         }
     }
 }

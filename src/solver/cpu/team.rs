@@ -1,15 +1,20 @@
 //! The frame on several threads: every thread of the solver's pool runs the whole substep loop as
 //! one team. Each takes its share of the particles in the per-particle passes and of each large
 //! color group in the sweeps, so one frame costs one wake-up of the pool instead of a fork and
-//! join per group. The team meets at a spin barrier after the prediction and before the finish
-//! pass (which makes the next substep's prediction too, outside the global balance); within a
-//! substep's iterations a thread waits for the others only before the part of its share that
-//! touches particles another thread touches too ([`Plan`]), so a thread that is ahead goes on
-//! with the rest of its share instead of waiting at every group. The elements of a group share no
-//! particle, the passes touch each particle alone, and two elements that share a particle are
-//! visited in the order of their groups, so the positions come out the same, bit for bit, for any
-//! thread count. Each thread times its waits, and the solver sums each thread's time
-//! working and waiting over the team's frames ([`super::TeamTime`]).
+//! join per group. A thread waits for the others only before the part of its share that touches
+//! particles another thread touches too ([`Plan`]), so a thread that is ahead goes on with the
+//! rest of its share instead of waiting at every group. In Gauss-Seidel without the global
+//! balance or the local mode, the finish pass (which makes the next substep's prediction too) is
+//! such a step as well, each thread zeroes the multipliers of its own parts, and the substeps
+//! follow one another without a barrier: the team meets only after the frame's first prediction
+//! and at its end. The global balance (which scales every velocity between the finish pass and
+//! the next prediction), the local mode (whose snapshots and start energies read every particle)
+//! and Jacobi (whose sums read every element's corrections) meet at spin barriers around those
+//! passes. The elements of a group share no particle, the passes touch each particle alone, and
+//! two elements that share a particle are visited in the order of their groups, so the positions
+//! come out the same, bit for bit, for any thread count. Each thread times its waits, and the
+//! solver sums each thread's time working and waiting over the team's frames
+//! ([`super::TeamTime`]).
 
 use std::cell::Cell;
 use std::ops::Range;
@@ -22,7 +27,7 @@ use super::super::barrier::{SpinBarrier, Waited, share};
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
 use super::super::jacobi;
-use super::super::particles::{self, FinishStep};
+use super::super::particles::{self, FinishStep, WORK_BLOCK};
 use super::super::shared::{Prechecked, SharedPositions};
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
@@ -113,6 +118,10 @@ impl<V: Vector> CpuSolver<V> {
         if local {
             crate::for_each_family!(scene, |i, f| self.fam[i].energy_start.resize(f.len(), V::S::zero()));
         }
+        // The finish pass's work per block of particles, one row per substep: thread 0 adds the
+        // rows in the one-thread order once no thread writes them any more.
+        let blocks = n.div_ceil(WORK_BLOCK);
+        self.team_work.resize(blocks * s.substeps as usize, 0.0);
         let p = &mut self.particles;
         let w = &p.w[..];
         let bound = self.fam.each_ref().map(|st| st.bound);
@@ -124,7 +133,7 @@ impl<V: Vector> CpuSolver<V> {
             x: SharedPositions::new(&mut p.x),
             x_prev: SharedPositions::new(&mut p.x_prev),
             v: SharedPositions::new(&mut p.v),
-            work: SharedPositions::new(&mut self.work_blocks),
+            work: SharedPositions::new(&mut self.team_work),
             lambda: fam.map(|f| f.0),
             local: self
                 .local
@@ -146,6 +155,10 @@ impl<V: Vector> CpuSolver<V> {
         let plain = k.plain();
         // The next substep's prediction in each finish pass, and one barrier fewer a substep.
         let fuse = fuses_predict(s);
+        // Substeps chained by the step counters alone: the finish pass is a step like the color
+        // groups, so a thread that is ahead goes on into the next substep ([`Plan::finish`]).
+        // The local mode's snapshots and Jacobi's corrections read every thread's particles.
+        let chained = fuse && !local && !jacobi;
         let totals = rayon::broadcast(|ctx| {
             let start = Instant::now();
             let me = Member {
@@ -158,10 +171,10 @@ impl<V: Vector> CpuSolver<V> {
                 at_barrier: Cell::default(),
             };
             let mut v = views;
-            let (mine, my_blocks) = particle_share(n, me.t, threads);
+            let mine = particle_share(n, me.t, threads).0;
             let mut ledger = ledger;
             let mut step = 0;
-            for substep in 0..s.substeps {
+            for substep in 0..s.substeps as usize {
                 // The balance's starting energy: carried from the last substep, else measured.
                 let mut h0 = ledger.carried;
                 if global && substep == 0 && h0.is_none() {
@@ -174,15 +187,16 @@ impl<V: Vector> CpuSolver<V> {
                     let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
                     particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
                 }
-                for l in &mut v.lambda {
-                    let r = share(0..l.len(), me.t, threads, 1);
-                    l.range_mut(r).fill(V::S::zero());
+                for (lambda, family) in v.lambda.iter_mut().zip(&plan.families) {
+                    me.zero_own(lambda, family);
                 }
-                me.meet();
-                if fuse && substep > 0 && me.t == 0 {
+                if !chained || substep == 0 {
+                    me.meet();
+                }
+                if fuse && !chained && substep > 0 && me.t == 0 {
                     // The last substep's work: every thread wrote its blocks before the barrier
-                    // above and writes them again only after the next one.
-                    ledger.dissipated += v.work.read_all().iter().sum::<f64>();
+                    // above.
+                    ledger.dissipated += row(v.work.read_all(), blocks, substep - 1);
                 }
                 if let Some([current, previous]) = &mut v.local {
                     // The local mode's snapshots and start energies, each thread its share.
@@ -251,14 +265,32 @@ impl<V: Vector> CpuSolver<V> {
                         });
                     }
                 }
-                me.meet();
-                let last = substep + 1 == s.substeps;
-                let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
-                let vel = v.v.range_mut(mine.clone());
+                let last = substep + 1 == s.substeps as usize;
                 let next = (fuse && !last).then_some(g);
-                let work = v.work.range_mut(my_blocks.clone());
-                let step = FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish() };
-                particles::finish(scene, x, x_prev, vel, &w[mine.clone()], step, work);
+                let finishing = FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish() };
+                // The finish pass over the particles `r` (whole blocks), its work in this
+                // substep's row.
+                let mut finish = |r: Range<usize>| {
+                    let row = substep * blocks;
+                    let work = v.work.range_mut(row + r.start / WORK_BLOCK..row + r.end.div_ceil(WORK_BLOCK));
+                    let (x, x_prev, vel) =
+                        (v.x.range_mut(r.clone()), v.x_prev.range_mut(r.clone()), v.v.range_mut(r.clone()));
+                    particles::finish(scene, x, x_prev, vel, &w[r], finishing, work);
+                };
+                if chained {
+                    me.step(&plan.finish[me.t], &mut step, &mut finish);
+                    if last {
+                        me.meet();
+                        if me.t == 0 {
+                            for substep in 0..s.substeps as usize {
+                                ledger.dissipated += row(v.work.read_all(), blocks, substep);
+                            }
+                        }
+                    }
+                    continue;
+                }
+                me.meet();
+                finish(mine.clone());
                 if fuse && !last {
                     // This thread predicted its particles for the next substep in the same pass;
                     // the next barrier comes after the multipliers' reset.
@@ -269,7 +301,7 @@ impl<V: Vector> CpuSolver<V> {
                 // no thread writes them again before its next finish pass; with the global
                 // balance it scales the velocities while the others wait.
                 if me.t == 0 {
-                    let work = v.work.read_all().iter().sum::<f64>();
+                    let work = row(v.work.read_all(), blocks, substep);
                     ledger.dissipated += work;
                     if let Some(h0) = h0.filter(|_| global) {
                         let (x, vel) = (v.x.read_all(), v.v.range_mut(0..n));
@@ -287,18 +319,46 @@ impl<V: Vector> CpuSolver<V> {
         self.ledger = totals[0].0;
         self.team_time.add(totals.iter().map(|t| (t.2, t.3, t.4)));
         let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
-        let per_substep = if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
         let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
         // The last iteration's contact pass runs in the finish pass, without a wait of its own.
         let in_finish = if jacobi { 1 } else { plan.contacts.is_some() as usize } * s.contacts_in_finish() as usize;
-        let substeps = s.substeps as usize * (per_substep + s.iterations as usize * per_iteration - in_finish);
-        let waits = threads * (substeps + fuse as usize);
+        let iterations = s.iterations as usize * per_iteration - in_finish;
+        let waits = threads
+            * match chained {
+                // The finish step each substep, and two barriers a frame.
+                true => s.substeps as usize * (iterations + 1) + 2,
+                false => {
+                    let per_substep =
+                        if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
+                    s.substeps as usize * (per_substep + iterations) + fuse as usize
+                }
+            };
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
     }
 }
 
+/// Row `substep` of the finish pass's work per block (`blocks` a row), summed in block order (J).
+fn row(work: &[f64], blocks: usize, substep: usize) -> f64 {
+    work[substep * blocks..(substep + 1) * blocks].iter().sum()
+}
+
 impl Member<'_> {
+    /// Zeroes the multipliers of this thread's parts of `family` (all of a family run whole, on
+    /// thread 0), which no other thread reads or writes in the sweeps.
+    fn zero_own<S: Real>(&self, lambda: &mut SharedPositions<'_, S>, family: &FamilyPlan) {
+        match family {
+            FamilyPlan::Absent => {}
+            FamilyPlan::Whole if self.t == 0 => lambda.range_mut(0..lambda.len()).fill(S::zero()),
+            FamilyPlan::Whole => {}
+            FamilyPlan::Split(parts) => {
+                for part in parts.iter().skip(self.t).step_by(self.threads) {
+                    lambda.range_mut(part.share.clone()).fill(S::zero());
+                }
+            }
+        }
+    }
+
     /// Waits at the team's barrier for the other threads.
     #[inline]
     fn meet(&self) {
