@@ -154,59 +154,89 @@ pub(crate) fn store_masked<S: Real>(out: &mut [S], v: Lanes, mask: u32) {
     }
 }
 
-/// Quarters of [`Lanes`] (one SSE register each).
-const QUARTERS: usize = WIDTH / 4;
-
-/// Lanes from their quarters, lowest first.
-#[inline(always)]
-fn join(q: [wide::f32x4; QUARTERS]) -> Lanes {
-    bytemuck::cast(q)
-}
-
-/// The quarters of `v`, lowest first.
-#[inline(always)]
-fn split(v: Lanes) -> [wide::f32x4; QUARTERS] {
-    bytemuck::cast(v)
-}
-
-/// The positions of particles `idx`, one per lane: each four particles' `[x, y, z, 0]`
+/// The positions of particles `idx[l]`, one per lane `l`: each particle's `[x, y, z, 0]`
 /// ([`Vector::to_quad`], one 16-byte load for [`glam::Vec3A`]) transposed into lanes.
 #[inline(always)]
 pub(crate) fn gather<V: Vector, P: Positions<V> + ?Sized>(x: &P, idx: &[usize; WIDTH]) -> V3 {
-    let mut c = [[wide::f32x4::ZERO; QUARTERS]; 3];
-    for q in 0..QUARTERS {
-        let i = &idx[4 * q..4 * q + 4];
-        let t = wide::f32x4::transpose([
-            x.get(i[0]).to_quad(),
-            x.get(i[1]).to_quad(),
-            x.get(i[2]).to_quad(),
-            x.get(i[3]).to_quad(),
-        ]);
-        (c[0][q], c[1][q], c[2][q]) = (t[0], t[1], t[2]);
-    }
-    V3 { x: join(c[0]), y: join(c[1]), z: join(c[2]) }
+    let [x, y, z] = transpose::to_lanes(std::array::from_fn(|l| x.get(idx[l]).to_quad()));
+    V3 { x, y, z }
 }
 
 /// Writes lane `l` of `v` to particle `idx[l]` for every lane set in `mask` (the transpose of
 /// [`gather`]).
 #[inline(always)]
 pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: &[usize; WIDTH], v: V3, mask: u32) {
-    let (vx, vy, vz) = (split(v.x), split(v.y), split(v.z));
     if mask == (1 << WIDTH) - 1 {
-        for q in 0..QUARTERS {
-            let t = wide::f32x4::transpose([vx[q], vy[q], vz[q], wide::f32x4::ZERO]);
-            for (l, t) in t.into_iter().enumerate() {
-                x.set(idx[4 * q + l], V::from_quad(t));
-            }
-        }
+        transpose::to_quads([v.x, v.y, v.z], |l, q| x.set(idx[l], V::from_quad(q)));
         return;
     }
-    for q in 0..QUARTERS {
-        let t = wide::f32x4::transpose([vx[q], vy[q], vz[q], wide::f32x4::ZERO]);
-        for (l, t) in t.into_iter().enumerate() {
-            if mask & (1 << (4 * q + l)) != 0 {
-                x.set(idx[4 * q + l], V::from_quad(t));
-            }
+    transpose::to_quads([v.x, v.y, v.z], |l, q| {
+        if mask & (1 << l) != 0 {
+            x.set(idx[l], V::from_quad(q));
+        }
+    });
+}
+
+/// Particles' `[x, y, z, w]` quads to lanes of `x`, `y` and `z` (`w` ignored) and back (`w = 0`).
+#[cfg(target_feature = "avx")]
+mod transpose {
+    use safe_arch::{
+        cast_to_m128_from_m256, extract_m128_from_m256, m128, m256, set_m128_m256, shuffle_m256, unpack_hi_m256,
+        unpack_lo_m256, zeroed_m256,
+    };
+
+    use super::{Lanes, WIDTH};
+
+    /// Quads `l` and `l + 4` in the low and high halves of one register: the two 4 × 4
+    /// transposes then run side by side, in 256-bit shuffles.
+    #[inline(always)]
+    pub fn to_lanes(q: [wide::f32x4; WIDTH]) -> [Lanes; 3] {
+        let pair = |l: usize| set_m128_m256(bytemuck::cast::<_, m128>(q[l + 4]), bytemuck::cast(q[l]));
+        let (r0, r1, r2, r3) = (pair(0), pair(1), pair(2), pair(3));
+        // [x0 x1 y0 y1 | x4 x5 y4 y5], [z0 z1 w0 w1 | …], and the same for particles 2, 3 (6, 7).
+        let (a, b) = (unpack_lo_m256(r0, r1), unpack_hi_m256(r0, r1));
+        let (c, d) = (unpack_lo_m256(r2, r3), unpack_hi_m256(r2, r3));
+        let x = shuffle_m256::<0b01_00_01_00>(a, c);
+        let y = shuffle_m256::<0b11_10_11_10>(a, c);
+        let z = shuffle_m256::<0b01_00_01_00>(b, d);
+        [x, y, z].map(bytemuck::cast)
+    }
+
+    /// The transpose of [`to_lanes`], with `w = 0`: `put(l, quad)` for each lane `l`.
+    #[inline(always)]
+    pub fn to_quads(v: [Lanes; 3], mut put: impl FnMut(usize, wide::f32x4)) {
+        let [x, y, z] = v.map(bytemuck::cast::<_, m256>);
+        // [x0 y0 x1 y1 | x4 y4 x5 y5], [x2 y2 x3 y3 | …], [z0 0 z1 0 | …], [z2 0 z3 0 | …].
+        let (a, b) = (unpack_lo_m256(x, y), unpack_hi_m256(x, y));
+        let (c, d) = (unpack_lo_m256(z, zeroed_m256()), unpack_hi_m256(z, zeroed_m256()));
+        let r = [
+            shuffle_m256::<0b01_00_01_00>(a, c),
+            shuffle_m256::<0b11_10_11_10>(a, c),
+            shuffle_m256::<0b01_00_01_00>(b, d),
+            shuffle_m256::<0b11_10_11_10>(b, d),
+        ];
+        for (l, r) in r.into_iter().enumerate() {
+            put(l, bytemuck::cast(cast_to_m128_from_m256(r)));
+            put(l + 4, bytemuck::cast(extract_m128_from_m256::<1>(r)));
+        }
+    }
+}
+
+/// Particles' `[x, y, z, w]` quads to lanes of `x`, `y` and `z` (`w` ignored) and back (`w = 0`).
+#[cfg(not(target_feature = "avx"))]
+mod transpose {
+    use super::{Lanes, WIDTH};
+
+    #[inline(always)]
+    pub fn to_lanes(q: [wide::f32x4; WIDTH]) -> [Lanes; 3] {
+        let t = wide::f32x4::transpose(q);
+        [t[0], t[1], t[2]]
+    }
+
+    #[inline(always)]
+    pub fn to_quads(v: [Lanes; 3], mut put: impl FnMut(usize, wide::f32x4)) {
+        for (l, q) in wide::f32x4::transpose([v[0], v[1], v[2], wide::f32x4::ZERO]).into_iter().enumerate() {
+            put(l, q);
         }
     }
 }
@@ -232,4 +262,38 @@ pub(crate) fn atan2(y: Lanes, x: Lanes) -> (Lanes, Lanes) {
     let r = swap.select(Lanes::splat(FRAC_PI_2) - r, r);
     let r = x.simd_lt(Lanes::ZERO).select(Lanes::splat(PI) - r, r);
     (r | (y & Lanes::splat(-0.0)), ok)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{Vec3, Vec3A};
+
+    /// Lane `l` of a gather is particle `idx[l]`, and a scatter writes exactly the lanes of its
+    /// mask back, for the padded and the packed storage.
+    #[test]
+    fn gather_and_scatter_are_transposes_lane_by_lane() {
+        let x: Vec<Vec3> = (0..20).map(|i| Vec3::new(i as f32, 100.0 + i as f32, -(i as f32) - 0.5)).collect();
+        let idx: [usize; WIDTH] = std::array::from_fn(|l| (7 * l + 3) % 20);
+        let v = gather(&x[..], &idx);
+        let va = gather(&x.iter().map(|&p| Vec3A::from(p)).collect::<Vec<_>>()[..], &idx);
+        for (l, &i) in idx.iter().enumerate() {
+            let lane = |c: Lanes| c.to_array()[l];
+            assert_eq!(Vec3::new(lane(v.x), lane(v.y), lane(v.z)), x[i], "lane {l}");
+            assert_eq!(Vec3::new(lane(va.x), lane(va.y), lane(va.z)), x[i], "padded lane {l}");
+        }
+        for mask in [(1u32 << WIDTH) - 1, 0b0110_1001 & ((1 << WIDTH) - 1)] {
+            let mut out = vec![Vec3::ZERO; 20];
+            let mut out_a = vec![Vec3A::ZERO; 20];
+            scatter(&mut out[..], &idx, v, mask);
+            scatter(&mut out_a[..], &idx, v, mask);
+            for (l, &i) in idx.iter().enumerate() {
+                let expected = if mask & (1 << l) != 0 { x[i] } else { Vec3::ZERO };
+                assert_eq!(out[i], expected, "mask {mask:b}, lane {l}");
+                assert_eq!(Vec3::from(out_a[i]), expected, "padded, mask {mask:b}, lane {l}");
+            }
+            let written = out.iter().filter(|p| **p != Vec3::ZERO).count();
+            assert_eq!(written, mask.count_ones() as usize);
+        }
+    }
 }
