@@ -345,7 +345,9 @@ fn row(work: &[f64], blocks: usize, substep: usize) -> f64 {
 
 impl Member<'_> {
     /// Zeroes the multipliers of this thread's parts of `family` (all of a family run whole, on
-    /// thread 0), which no other thread reads or writes in the sweeps.
+    /// thread 0): in Gauss-Seidel no other thread reads or writes them, so no barrier needs to
+    /// follow; Jacobi, whose threads take the multipliers by even shares of the array, meets at one
+    /// before its sweep.
     fn zero_own<S: Real>(&self, lambda: &mut SharedPositions<'_, S>, family: &FamilyPlan) {
         match family {
             FamilyPlan::Absent => {}
