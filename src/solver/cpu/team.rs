@@ -54,6 +54,7 @@ struct Views<'a, V: Vector> {
     x: SharedPositions<'a, V>,
     x_prev: SharedPositions<'a, V>,
     v: SharedPositions<'a, V>,
+    /// The finish pass's work per block of particles, a row of blocks per substep (J).
     work: SharedPositions<'a, f64>,
     lambda: [SharedPositions<'a, V::S>; FAMILY_COUNT],
     /// The local mode's snapshots (current, previous) and start energies per family.
@@ -153,7 +154,7 @@ impl<V: Vector> CpuSolver<V> {
         let rest_com = self.rest_com;
         // The lean kernels where the CPU's serial sweep takes them (compliant, undamped).
         let plain = k.plain();
-        // The next substep's prediction in each finish pass, and one barrier fewer a substep.
+        // The next substep's prediction in each finish pass (every mode but the global balance).
         let fuse = fuses_predict(s);
         // Substeps chained by the step counters alone: the finish pass is a step like the color
         // groups, so a thread that is ahead goes on into the next substep ([`Plan::finish`]).
