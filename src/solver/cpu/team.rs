@@ -194,11 +194,6 @@ impl<V: Vector> CpuSolver<V> {
                 if !chained || substep == 0 {
                     me.meet();
                 }
-                if fuse && !chained && substep > 0 && me.t == 0 {
-                    // The last substep's work: every thread wrote its blocks before the barrier
-                    // above.
-                    ledger.dissipated += row(v.work.read_all(), blocks, substep - 1);
-                }
                 if let Some([current, previous]) = &mut v.local {
                     // The local mode's snapshots and start energies, each thread its share.
                     previous.range_mut(mine.clone()).copy_from_slice(&v.x_prev.read_all()[mine.clone()]);
@@ -280,34 +275,29 @@ impl<V: Vector> CpuSolver<V> {
                 };
                 if chained {
                     me.step(&plan.finish[me.t], &mut step, &mut finish);
-                    if last {
-                        me.meet();
-                        if me.t == 0 {
-                            for substep in 0..s.substeps as usize {
-                                ledger.dissipated += row(v.work.read_all(), blocks, substep);
-                            }
-                        }
-                    }
-                    continue;
+                } else {
+                    me.meet();
+                    finish(mine.clone());
                 }
-                me.meet();
-                finish(mine.clone());
                 if fuse && !last {
-                    // This thread predicted its particles for the next substep in the same pass;
-                    // the next barrier comes after the multipliers' reset.
+                    // This thread predicted its particles for the next substep in the same pass.
                     continue;
                 }
                 me.meet();
-                // Thread 0 adds the blocks in order before the next substep's first barrier, and
-                // no thread writes them again before its next finish pass; with the global
-                // balance it scales the velocities while the others wait.
-                if me.t == 0 {
+                // Thread 0 adds the work rows in the one-thread order, once no thread writes
+                // them: with the global balance this substep's, which the balance needs before
+                // it scales the velocities while the others wait; otherwise the frame's, at its end.
+                if me.t == 0 && global {
                     let work = row(v.work.read_all(), blocks, substep);
                     ledger.dissipated += work;
-                    if let Some(h0) = h0.filter(|_| global) {
+                    if let Some(h0) = h0 {
                         let (x, vel) = (v.x.read_all(), v.v.range_mut(0..n));
                         let (sigma, carried) = balance(scene, rest_com, x, vel, w, h0, work);
                         (ledger.carried, ledger.last_scale) = (Some(carried), sigma);
+                    }
+                } else if me.t == 0 {
+                    for substep in 0..s.substeps as usize {
+                        ledger.dissipated += row(v.work.read_all(), blocks, substep);
                     }
                 }
                 if global {
