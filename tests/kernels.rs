@@ -1,7 +1,7 @@
 //! The lean in-place kernels of the CPU solver (scalar and SIMD, `SIMD_WIDTH` lanes) against the general XPBD
 //! update, the fast `f32` `atan2` against the library, and the team of threads against one thread.
 
-use eapbd::constraints::{Bend, BendParams, Element, SIMD_WIDTH, Spring, SpringMaterial, SpringParams, lane_masses};
+use eapbd::constraints::{Bend, BendParams, Element, LaneData, SIMD_WIDTH, Spring, SpringMaterial, SpringParams};
 use eapbd::math::Real;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings, delta_lambda};
@@ -53,10 +53,20 @@ fn case(rng: &mut SmallRng, n: usize, place: impl Fn(&mut SmallRng, usize) -> Ve
 fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E::Params, c: &Case, rel: f32) {
     let (mut xg, mut xs, mut xv) = (c.x.clone(), c.x.clone(), c.x.clone());
     let (mut lg, mut ls, mut lv) = (c.lambda, c.lambda, c.lambda);
-    // The inverse masses slot by slot, as the solver hands them to the SIMD kernels.
-    let wl = lane_masses(es, &c.w);
-    let wl: [&[f32]; N] = std::array::from_fn(|n| &wl[n * SIMD_WIDTH..(n + 1) * SIMD_WIDTH]);
-    let declined = if E::PLAIN_WIDE { E::project_plain_wide(es, p, &mut xv[..], wl, &mut lv, INV_H2, 1.0) } else { 0 };
+    // The elements slot by slot, as the solver hands them to the SIMD kernels, for positions of
+    // 12 bytes (`Vec3`) and of 16 (`Vec3A`).
+    let lanes = |stride| {
+        let mut d = LaneData::new(es, stride);
+        d.set_masses(es, &c.w);
+        d
+    };
+    let (packed, padded) = (lanes(size_of::<Vec3>()), lanes(size_of::<Vec3A>()));
+    let (packed, padded) = (
+        packed.view::<N>(0..SIMD_WIDTH).expect("complete lanes"),
+        padded.view::<N>(0..SIMD_WIDTH).expect("complete lanes"),
+    );
+    let declined =
+        if E::PLAIN_WIDE { E::project_plain_wide(packed.window(0), p, &mut xv[..], &mut lv, INV_H2, 1.0) } else { 0 };
     for (l, e) in es.iter().enumerate() {
         general(e, p, &mut xg, &c.w, &mut lg[l]);
         let done = e.project_plain(p, &mut xs[..], &c.w, &mut ls[l], INV_H2, 1.0);
@@ -75,7 +85,7 @@ fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E:
         // The padded storage the solver runs on (one 16-byte load and store per particle).
         let mut xa: Vec<Vec3A> = c.x.iter().map(|&p| p.into()).collect();
         let mut la = c.lambda;
-        let declined_a = E::project_plain_wide(es, p, &mut xa[..], wl, &mut la, INV_H2, 1.0);
+        let declined_a = E::project_plain_wide(padded.window(0), p, &mut xa[..], &mut la, INV_H2, 1.0);
         assert_eq!(declined_a, 0, "{what}: padded lanes declined");
         let xa: Vec<Vec3> = xa.into_iter().map(Vec3::from).collect();
         assert_eq!(xa, xv, "{what}: padded SIMD positions differ");

@@ -15,7 +15,7 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::spring::tiny;
-use super::{Element, Positions, Projection, simd};
+use super::{Element, LANE_CONSTANTS, LaneWindow, Positions, Projection, simd};
 use crate::math::prelude::*;
 
 /// Parameters shared by all bending elements (none yet: stiffness is per element).
@@ -173,25 +173,29 @@ impl Element<4> for Bend {
         true
     }
 
+    /// `[θ₀, k_b]`.
+    #[inline(always)]
+    fn lane_constants(&self) -> [f32; LANE_CONSTANTS] {
+        [self.rest_angle, self.k]
+    }
+
     /// [`Bend::project_plain`] lane by lane, operation for operation.
     const PLAIN_WIDE: bool = true;
 
     #[inline(always)]
     fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
-        elems: &[Self],
+        lanes: LaneWindow<'_, 4>,
         _: &BendParams,
         x: &mut P,
-        w: [&[f32]; 4],
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
     ) -> u32 {
-        use simd::{Lanes, WIDTH, per_lane};
-        let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
-        let idx = simd::slots(el);
-        let xs =
-            [simd::gather(x, &idx[0]), simd::gather(x, &idx[1]), simd::gather(x, &idx[2]), simd::gather(x, &idx[3])];
-        let ws = w.map(simd::load);
+        use simd::{Lanes, WIDTH};
+        let at = lanes.at;
+        let xs = [simd::gather(x, at[0]), simd::gather(x, at[1]), simd::gather(x, at[2]), simd::gather(x, at[3])];
+        let ws = lanes.w.map(simd::load);
+        let [rest, k] = lanes.consts.map(simd::load);
         let e = xs[1] - xs[0];
         let (a, b) = (xs[2] - xs[0], xs[3] - xs[0]);
         let n1 = e.cross(a);
@@ -212,12 +216,12 @@ impl Element<4> for Bend {
         let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
         let g1 = -(g2 * t2) - g3 * t3;
         let sum = ws[0] * g0.length_squared() + ws[1] * g1.length_squared() + (ws[2] * q1 + ws[3] * q2) * elen;
-        let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / per_lane(|l| el[l].k);
+        let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / k;
         let denom = sum + alpha_tilde;
         ok &= denom.simd_gt(Lanes::splat(1e-20));
         let pi = Lanes::splat(std::f64::consts::PI as f32);
         let two_pi = pi + pi;
-        let d = theta - per_lane(|l| el[l].rest_angle);
+        let d = theta - rest;
         let d = d.simd_gt(pi).select(d - two_pi, d);
         let cval = d.simd_le(-pi).select(d + two_pi, d);
         let lam = simd::lanes(lambda);
@@ -225,10 +229,10 @@ impl Element<4> for Bend {
         let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, Lanes::ZERO);
         let mask = ok.to_bitmask();
         simd::store_masked(lambda, lam + dl, mask);
-        simd::scatter(x, &idx[0], xs[0] + g0 * (ws[0] * dl), mask);
-        simd::scatter(x, &idx[1], xs[1] + g1 * (ws[1] * dl), mask);
-        simd::scatter(x, &idx[2], xs[2] + g2 * (ws[2] * dl), mask);
-        simd::scatter(x, &idx[3], xs[3] + g3 * (ws[3] * dl), mask);
+        simd::scatter(x, at[0], xs[0] + g0 * (ws[0] * dl), mask);
+        simd::scatter(x, at[1], xs[1] + g1 * (ws[1] * dl), mask);
+        simd::scatter(x, at[2], xs[2] + g2 * (ws[2] * dl), mask);
+        simd::scatter(x, at[3], xs[3] + g3 * (ws[3] * dl), mask);
         !mask & ((1 << WIDTH) - 1)
     }
 }

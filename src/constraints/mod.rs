@@ -5,6 +5,7 @@
 //! records are `#[repr(C)]` and `Pod` so the GPU solver can upload them unchanged.
 
 pub mod bending;
+mod lanes;
 pub mod membrane;
 pub(crate) mod simd;
 pub mod spring;
@@ -13,6 +14,7 @@ pub mod tet;
 use crate::math::Vector;
 
 pub use bending::{Bend, BendParams};
+pub use lanes::{LANE_CONSTANTS, LaneData, LaneView, LaneWindow};
 pub use membrane::{Membrane, MembraneParams, Orthotropic};
 pub use simd::WIDTH as SIMD_WIDTH;
 pub use spring::{Spring, SpringMaterial, SpringParams};
@@ -111,38 +113,29 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
     /// `true` where the family overrides [`Element::project_plain_wide`].
     const PLAIN_WIDE: bool = false;
 
-    /// [`Element::project_plain`] for [`SIMD_WIDTH`] elements of one color group at once, one per
-    /// SIMD lane (called for `f32` only: `elems` and `lambda` hold exactly [`SIMD_WIDTH`]).
-    /// `w[n][l]` is the inverse mass (1/kg) of particle `n` of element `l` (slot by slot, so each
-    /// slot's masses load as one vector; [`lane_masses`]).
+    /// The element's constants the SIMD kernel loads by lane ([`LaneData`]; unused elsewhere).
+    #[inline(always)]
+    fn lane_constants(&self) -> [f32; LANE_CONSTANTS] {
+        [0.0; LANE_CONSTANTS]
+    }
+
+    /// [`Element::project_plain`] for [`SIMD_WIDTH`] consecutive elements of one color group at
+    /// once, one per SIMD lane, given slot by slot (`lanes`, [`LaneView::window`]: each particle
+    /// slot's inverse masses in 1/kg and byte offsets, and the elements' [`Element::lane_constants`])
+    /// (called for `f32` only: `lambda` holds exactly [`SIMD_WIDTH`]).
     /// Returns a mask of the lanes it declined (bit `l` set: element `l` left unchanged for the
     /// scalar path).
     #[inline(always)]
     fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
-        _elems: &[Self],
+        _lanes: LaneWindow<'_, N>,
         _p: &Self::Params,
         _x: &mut P,
-        _w: [&[f32]; N],
         _lambda: &mut [V::S],
         _inv_h2: V::S,
         _sor: V::S,
     ) -> u32 {
         (1 << SIMD_WIDTH) - 1
     }
-}
-
-/// The inverse masses `w` (1/kg) of the particles of `elements`, slot by slot: entry `n · len + j`
-/// is `w` of particle `n` of element `j`, `len = elements.len()` (what
-/// [`Element::project_plain_wide`] loads, one vector per slot).
-pub fn lane_masses<E: Element<N>, S: crate::math::Real, const N: usize>(elements: &[E], w: &[S]) -> Vec<f32> {
-    let len = elements.len();
-    let mut out = vec![0.0; N * len];
-    for (j, e) in elements.iter().enumerate() {
-        for (n, p) in e.particles().into_iter().enumerate() {
-            out[n * len + j] = w[p as usize].to_f64() as f32;
-        }
-    }
-    out
 }
 
 /// Read and write access to particle positions for the in-place kernels: a plain slice, or the
@@ -152,6 +145,18 @@ pub trait Positions<V> {
     fn get(&self, i: usize) -> V;
     /// Moves particle `i` to `v`.
     fn set(&mut self, i: usize, v: V);
+
+    /// Position of the particle at byte offset `at` (its index × the size of `V`, [`LaneData`]).
+    #[inline(always)]
+    fn get_at(&self, at: u32) -> V {
+        self.get(at as usize / size_of::<V>())
+    }
+
+    /// Moves the particle at byte offset `at` to `v`.
+    #[inline(always)]
+    fn set_at(&mut self, at: u32, v: V) {
+        self.set(at as usize / size_of::<V>(), v)
+    }
 }
 
 impl<V: Copy> Positions<V> for [V] {

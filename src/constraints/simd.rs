@@ -108,23 +108,10 @@ pub(crate) fn lanes<S: Real>(v: &[S]) -> Lanes {
     per_lane(|l| v[l].to_f64() as f32)
 }
 
-/// The first [`WIDTH`] values of `v` as lanes, in one load.
+/// [`WIDTH`] values as lanes, in one load.
 #[inline(always)]
-pub(crate) fn load(v: &[f32]) -> Lanes {
-    let a: [f32; WIDTH] = v[..WIDTH].try_into().expect("one value per lane");
-    Lanes::from(a)
-}
-
-/// The particle indices of `el` by slot: `slots(el)[n][l]` is particle `n` of element `l`.
-#[inline(always)]
-pub(crate) fn slots<E: super::Element<N>, const N: usize>(el: &[E; WIDTH]) -> [[usize; WIDTH]; N] {
-    let mut s = [[0; WIDTH]; N];
-    for (l, e) in el.iter().enumerate() {
-        for (n, p) in e.particles().into_iter().enumerate() {
-            s[n][l] = p as usize;
-        }
-    }
-    s
+pub(crate) fn load(v: &[f32; WIDTH]) -> Lanes {
+    Lanes::from(*v)
 }
 
 /// Lanes back as scalars.
@@ -154,25 +141,26 @@ pub(crate) fn store_masked<S: Real>(out: &mut [S], v: Lanes, mask: u32) {
     }
 }
 
-/// The positions of particles `idx[l]`, one per lane `l`: each particle's `[x, y, z, 0]`
-/// ([`Vector::to_quad`], one 16-byte load for [`glam::Vec3A`]) transposed into lanes.
+/// The positions of the particles at byte offsets `at[l]` ([`Positions::get_at`]), one per lane
+/// `l`: each particle's `[x, y, z, 0]` ([`Vector::to_quad`], one 16-byte load for
+/// [`glam::Vec3A`]) transposed into lanes.
 #[inline(always)]
-pub(crate) fn gather<V: Vector, P: Positions<V> + ?Sized>(x: &P, idx: &[usize; WIDTH]) -> V3 {
-    let [x, y, z] = transpose::to_lanes(std::array::from_fn(|l| x.get(idx[l]).to_quad()));
+pub(crate) fn gather<V: Vector, P: Positions<V> + ?Sized>(x: &P, at: &[u32; WIDTH]) -> V3 {
+    let [x, y, z] = transpose::to_lanes(std::array::from_fn(|l| x.get_at(at[l]).to_quad()));
     V3 { x, y, z }
 }
 
-/// Writes lane `l` of `v` to particle `idx[l]` for every lane set in `mask` (the transpose of
-/// [`gather`]).
+/// Writes lane `l` of `v` to the particle at byte offset `at[l]` for every lane set in `mask`
+/// (the transpose of [`gather`]).
 #[inline(always)]
-pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, idx: &[usize; WIDTH], v: V3, mask: u32) {
+pub(crate) fn scatter<V: Vector, P: Positions<V> + ?Sized>(x: &mut P, at: &[u32; WIDTH], v: V3, mask: u32) {
     if mask == (1 << WIDTH) - 1 {
-        transpose::to_quads([v.x, v.y, v.z], |l, q| x.set(idx[l], V::from_quad(q)));
+        transpose::to_quads([v.x, v.y, v.z], |l, q| x.set_at(at[l], V::from_quad(q)));
         return;
     }
     transpose::to_quads([v.x, v.y, v.z], |l, q| {
         if mask & (1 << l) != 0 {
-            x.set(idx[l], V::from_quad(q));
+            x.set_at(at[l], V::from_quad(q));
         }
     });
 }
@@ -269,14 +257,15 @@ mod tests {
     use super::*;
     use glam::{Vec3, Vec3A};
 
-    /// Lane `l` of a gather is particle `idx[l]`, and a scatter writes exactly the lanes of its
+    /// Lane `l` of a gather is particle `idx[l]` (at its byte offset), and a scatter writes exactly the lanes of its
     /// mask back, for the padded and the packed storage.
     #[test]
     fn gather_and_scatter_are_transposes_lane_by_lane() {
         let x: Vec<Vec3> = (0..20).map(|i| Vec3::new(i as f32, 100.0 + i as f32, -(i as f32) - 0.5)).collect();
         let idx: [usize; WIDTH] = std::array::from_fn(|l| (7 * l + 3) % 20);
-        let v = gather(&x[..], &idx);
-        let va = gather(&x.iter().map(|&p| Vec3A::from(p)).collect::<Vec<_>>()[..], &idx);
+        let (at, at_a) = (idx.map(|i| (i * size_of::<Vec3>()) as u32), idx.map(|i| (i * size_of::<Vec3A>()) as u32));
+        let v = gather(&x[..], &at);
+        let va = gather(&x.iter().map(|&p| Vec3A::from(p)).collect::<Vec<_>>()[..], &at_a);
         for (l, &i) in idx.iter().enumerate() {
             let lane = |c: Lanes| c.to_array()[l];
             assert_eq!(Vec3::new(lane(v.x), lane(v.y), lane(v.z)), x[i], "lane {l}");
@@ -285,8 +274,8 @@ mod tests {
         for mask in [(1u32 << WIDTH) - 1, 0b0110_1001 & ((1 << WIDTH) - 1)] {
             let mut out = vec![Vec3::ZERO; 20];
             let mut out_a = vec![Vec3A::ZERO; 20];
-            scatter(&mut out[..], &idx, v, mask);
-            scatter(&mut out_a[..], &idx, v, mask);
+            scatter(&mut out[..], &at, v, mask);
+            scatter(&mut out_a[..], &at_a, v, mask);
             for (l, &i) in idx.iter().enumerate() {
                 let expected = if mask & (1 << l) != 0 { x[i] } else { Vec3::ZERO };
                 assert_eq!(out[i], expected, "mask {mask:b}, lane {l}");

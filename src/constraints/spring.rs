@@ -12,7 +12,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{Element, Positions, Projection, simd};
+use super::{Element, LANE_CONSTANTS, LaneWindow, Positions, Projection, simd};
 use crate::math::prelude::*;
 
 /// The spring energy model.
@@ -170,41 +170,45 @@ impl Element<2> for Spring {
         true
     }
 
+    /// `[l₀, k]`.
+    #[inline(always)]
+    fn lane_constants(&self) -> [f32; LANE_CONSTANTS] {
+        [self.rest, self.k]
+    }
+
     /// [`Spring::project_plain`] lane by lane, operation for operation.
     const PLAIN_WIDE: bool = true;
 
     #[inline(always)]
     fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
-        elems: &[Self],
+        lanes: LaneWindow<'_, 2>,
         p: &SpringParams,
         x: &mut P,
-        w: [&[f32]; 2],
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
     ) -> u32 {
-        use simd::{Lanes, WIDTH, per_lane};
+        use simd::{Lanes, WIDTH};
         let all = (1 << WIDTH) - 1;
         if p.material != SpringMaterial::Hookean {
             return all;
         }
-        let el: &[Self; WIDTH] = elems.try_into().expect("one element per lane");
-        let [ia, ib] = simd::slots(el);
-        let (xa, xb) = (simd::gather(x, &ia), simd::gather(x, &ib));
-        let (wa, wb) = (simd::load(w[0]), simd::load(w[1]));
+        let [ia, ib] = lanes.at;
+        let (xa, xb) = (simd::gather(x, ia), simd::gather(x, ib));
+        let (wa, wb) = (simd::load(lanes.w[0]), simd::load(lanes.w[1]));
+        let [l0, k] = lanes.consts.map(simd::load);
         let d = xb - xa;
         let len = d.length_squared().sqrt();
-        let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / per_lane(|l| el[l].k);
+        let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / k;
         let denom = wa + wb + alpha_tilde;
         let ok = len.simd_gt(Lanes::splat(1e-12)) & denom.simd_gt(Lanes::splat(1e-20));
-        let l0 = per_lane(|l| el[l].rest);
         let lam = simd::lanes(lambda);
         let sor = Lanes::splat(sor.to_f64() as f32);
         let s = ok.select((l0 - len - alpha_tilde * lam) * sor / (denom * len), Lanes::ZERO);
         let mask = ok.to_bitmask();
         simd::store_masked(lambda, lam + s * len, mask);
-        simd::scatter(x, &ia, xa - d * (wa * s), mask);
-        simd::scatter(x, &ib, xb + d * (wb * s), mask);
+        simd::scatter(x, ia, xa - d * (wa * s), mask);
+        simd::scatter(x, ib, xb + d * (wb * s), mask);
         !mask & all
     }
 }

@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use crate::constraints::SIMD_WIDTH;
 use crate::constraints::simd::is_f32;
-use crate::constraints::{Element, Form, Positions, gather, lane_masses};
+use crate::constraints::{Element, Form, LaneData, LaneView, Positions, gather};
 use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
@@ -38,11 +38,11 @@ struct FamilyState<S> {
     energy_start: Vec<S>,
     /// The family's color groups share no particle, so threads may split them.
     disjoint: bool,
-    /// The inverse masses of the elements' particles slot by slot ([`lane_masses`]), for the SIMD
-    /// kernels: `f32` families that have them only, else empty. Kept in step with
-    /// [`Particles::w`] at the start of every frame of plain Gauss-Seidel
-    /// ([`CpuSolver::refresh_lane_masses`]).
-    w_lanes: Vec<f32>,
+    /// The elements slot by slot for the SIMD kernels ([`LaneData`]): `f32` families that have
+    /// them only, built before the first frame of plain Gauss-Seidel, else empty. Its inverse
+    /// masses are kept in step with [`Particles::w`] at the start of every such frame
+    /// ([`CpuSolver::refresh_lanes`]).
+    lanes: LaneData,
     /// One past the largest particle index of the family's elements (0 when it has none): the
     /// lean sweeps check it against the positions' length once, then gather and scatter without
     /// bounds checks ([`Prechecked`]).
@@ -108,7 +108,7 @@ pub struct CpuSolver<V: Vector> {
     /// Jacobi on the team: where each element's corrections go, and the corrections (built on
     /// first use).
     jacobi_slots: Option<(jacobi::Slots, Vec<V>)>,
-    /// The inverse masses the families' `w_lanes` were taken from.
+    /// The inverse masses the families' `lanes` were taken from.
     w_seen: Vec<V::S>,
     /// The team's time working and waiting ([`CpuSolver::team_time`]).
     team_time: TeamTime,
@@ -161,7 +161,7 @@ impl<V: Vector> CpuSolver<V> {
     pub fn step_frame(&mut self, s: &Settings) {
         let k = StepConstants::new(s);
         if s.method == Method::GaussSeidel && k.plain() && s.energy_aware != EnergyAware::Local {
-            self.refresh_lane_masses();
+            self.refresh_lanes();
         }
         if s.method == Method::Jacobi {
             self.prepare_jacobi(s.jacobi_omega);
@@ -191,18 +191,22 @@ impl<V: Vector> CpuSolver<V> {
         self.last = Some(k);
     }
 
-    /// Takes the families' [`FamilyState::w_lanes`] again from [`Particles::w`] where it changed
+    /// Builds the families' [`FamilyState::lanes`] on first use and takes their inverse masses again from [`Particles::w`] where it changed
     /// since they were taken (the particles are public: a caller may pin or free one between
     /// frames), in `f32` for the families with a SIMD kernel; before a frame that runs the lean
     /// kernels (plain Gauss-Seidel), the only one that reads them.
-    fn refresh_lane_masses(&mut self) {
+    fn refresh_lanes(&mut self) {
         if !is_f32::<V::S>() || self.w_seen == self.particles.w {
             return;
         }
         let w = &self.particles.w;
         crate::for_each_family!(self.scene, |i, f| {
             if family_has_wide(f) {
-                self.fam[i].w_lanes = lane_masses(&f.elements, w);
+                let lanes = &mut self.fam[i].lanes;
+                if lanes.is_empty() {
+                    *lanes = LaneData::new(&f.elements, size_of::<V>());
+                }
+                lanes.set_masses(&f.elements, w);
             }
         });
         self.w_seen.clone_from(w);
@@ -295,7 +299,7 @@ impl<V: Vector> CpuSolver<V> {
                     crate::for_each_family!(self.scene, |i, f| {
                         let st = &mut self.fam[i];
                         let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-                        gauss_seidel(f, &mut st.lambda, (&st.w_lanes, st.bound), &mut self.particles, k, ctx)
+                        gauss_seidel(f, &mut st.lambda, (&st.lanes, st.bound), &mut self.particles, k, ctx)
                     });
                 }
                 Method::Jacobi => self.jacobi_iteration(k, local),
@@ -391,11 +395,12 @@ impl<V: Vector> CpuSolver<V> {
         std::array::from_fn(|i| self.fam[i].lambda.as_slice())
     }
 
-    /// Bytes held by the SIMD kernels' copy of the inverse masses: `(per particle, per element)`,
-    /// the masses it was taken from (4 bytes a particle) and the copy by slot (4 bytes per particle
-    /// of an element with a SIMD kernel); none before a frame of plain Gauss-Seidel.
-    pub fn lane_mass_bytes(&self) -> (usize, usize) {
-        let lanes: usize = self.fam.iter().map(|st| st.w_lanes.len() * 4).sum();
+    /// Bytes held by the SIMD kernels' copy of the elements slot by slot ([`LaneData`]):
+    /// `(per particle, per element)`, the inverse masses it was taken from (4 bytes a particle) and
+    /// the copy (for an element with a SIMD kernel, 8 bytes per particle and 8 for its constants);
+    /// none before a frame of plain Gauss-Seidel.
+    pub fn lane_bytes(&self) -> (usize, usize) {
+        let lanes: usize = self.fam.iter().map(|st| st.lanes.bytes()).sum();
         (self.w_seen.len() * size_of::<V::S>(), lanes)
     }
 
@@ -506,7 +511,7 @@ fn local_adjusted<V: Vector, const N: usize>(
 fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
-    (w_lanes, bound): (&[f32], usize),
+    (lanes, bound): (&LaneData, usize),
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
     local: Option<LocalCtx<'_, V>>,
@@ -516,7 +521,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
         Some(ctx) => {
             sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
         }
-        None if k.plain() => plain_sweep(f, lambda, (w_lanes, bound), &mut p.x, &p.x_prev, &p.w, k),
+        None if k.plain() => plain_sweep(f, lambda, (lanes, bound), &mut p.x, &p.x_prev, &p.w, k),
         None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }
@@ -529,7 +534,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
     lambda: &mut [V::S],
-    (w_lanes, bound): (&[f32], usize),
+    (lanes, bound): (&LaneData, usize),
     x: &mut [V],
     x_prev: &[V],
     w: &[V::S],
@@ -541,8 +546,7 @@ fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     let x = &mut unsafe { Prechecked::slice(x) };
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);
-        let wl = slot_ranges(w_lanes, f.len(), lo..hi);
-        plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, (w, wl), k);
+        plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, (w, lanes.view(lo..hi)), k);
     }
 }
 
@@ -558,19 +562,9 @@ fn family_has_wide<E: Element<N>, const N: usize>(_: &Family<E, N>) -> bool {
     E::PLAIN_WIDE
 }
 
-/// The slices of `w_lanes` (a family's [`FamilyState::w_lanes`], `len` elements) for its elements
-/// `range`, one per particle slot; empty slices where the family has none.
-#[inline]
-fn slot_ranges<const N: usize>(w_lanes: &[f32], len: usize, range: std::ops::Range<usize>) -> [&[f32]; N] {
-    std::array::from_fn(|n| match w_lanes.len() == N * len {
-        true => &w_lanes[n * len + range.start..n * len + range.end],
-        false => &[][..],
-    })
-}
-
 /// [`plain_sweep`] over consecutive elements of one color group: `w` the particles' inverse
-/// masses, `wl` those of the elements' particles slot by slot ([`slot_ranges`]; the SIMD
-/// kernels run where every slot has one per element).
+/// masses, `lanes` the elements slot by slot ([`LaneData::view`]; the SIMD kernels run where
+/// there is one).
 #[inline(always)]
 fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
     es: &[E],
@@ -578,7 +572,7 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
     params: &E::Params,
     x: &mut P,
     x_prev: &[V],
-    (w, wl): (&[V::S], [&[f32]; N]),
+    (w, lanes): (&[V::S], Option<LaneView<'_, N>>),
     k: &StepConstants<V::S>,
 ) {
     let one = |e: &E, l: &mut V::S, x: &mut P| {
@@ -587,11 +581,10 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
         }
     };
     let mut j = 0;
-    if E::PLAIN_WIDE && is_f32::<V::S>() && wl.iter().all(|s| s.len() == es.len()) {
+    if let Some(lanes) = lanes.filter(|l| E::PLAIN_WIDE && is_f32::<V::S>() && l.len() == es.len()) {
         while j + SIMD_WIDTH <= es.len() {
-            let (e, l) = (&es[j..j + SIMD_WIDTH], &mut ls[j..j + SIMD_WIDTH]);
-            let wj = wl.map(|s| &s[j..j + SIMD_WIDTH]);
-            let mut declined = E::project_plain_wide(e, params, x, wj, l, k.inv_h2, k.sor);
+            let l = &mut ls[j..j + SIMD_WIDTH];
+            let mut declined = E::project_plain_wide(lanes.window(j), params, x, l, k.inv_h2, k.sor);
             while declined != 0 {
                 let l = declined.trailing_zeros() as usize;
                 one(&es[j + l], &mut ls[j + l], x);

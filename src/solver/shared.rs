@@ -99,7 +99,8 @@ impl<'a, V> Prechecked<'a, V> {
     ///
     /// # Safety
     /// While the view lives, [`Positions::get`] and [`Positions::set`] are called only with
-    /// indices below `x.len()`.
+    /// indices below `x.len()`, and [`Positions::get_at`] and [`Positions::set_at`] only with such
+    /// an index times the size of `V`.
     pub unsafe fn slice(x: &'a mut [V]) -> Self {
         Prechecked { ptr: x.as_mut_ptr(), len: x.len(), _borrow: PhantomData }
     }
@@ -127,6 +128,23 @@ impl<V: Copy> Positions<V> for Prechecked<'_, V> {
         debug_assert!(i < self.len, "particle index {i} out of range 0..{}", self.len);
         // SAFETY: as in `get`.
         unsafe { *self.ptr.add(i) = v }
+    }
+
+    #[inline(always)]
+    fn get_at(&self, at: u32) -> V {
+        let at = at as usize;
+        debug_assert!(at.is_multiple_of(size_of::<V>()) && at / size_of::<V>() < self.len, "offset {at} out of range");
+        // SAFETY: `at` is the offset of a particle index below `len` (the constructor's contract),
+        // so the address is in bounds and aligned.
+        unsafe { *self.ptr.cast::<u8>().add(at).cast::<V>() }
+    }
+
+    #[inline(always)]
+    fn set_at(&mut self, at: u32, v: V) {
+        let at = at as usize;
+        debug_assert!(at.is_multiple_of(size_of::<V>()) && at / size_of::<V>() < self.len, "offset {at} out of range");
+        // SAFETY: as in `get_at`.
+        unsafe { *self.ptr.cast::<u8>().add(at).cast::<V>() = v }
     }
 }
 

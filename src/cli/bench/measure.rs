@@ -139,13 +139,13 @@ pub fn cpu_rows(case: &Case, scene: &Scene, backends: &[Backend], budget: &Budge
 }
 
 /// The arrays the CPU solver works on (bytes, from their lengths): particle state (`x`,
-/// `x_prev`, `v`, `w`), the elements of every family and one `f32` multiplier per constraint; with
-/// plain Gauss-Seidel the SIMD kernels' copy of the inverse masses
-/// ([`CpuSolver::lane_mass_bytes`]); with Jacobi its per-constraint scale and per-particle
+/// `x_prev`, `v`, `w`), the elements of every family and one `f32` multiplier per constraint; the
+/// SIMD kernels' copy of the elements slot by slot, with the inverse masses after a frame of plain
+/// Gauss-Seidel ([`CpuSolver::lane_bytes`]); with Jacobi its per-constraint scale and per-particle
 /// correction.
 pub fn cpu_memory(solver: &CpuSolver<Vec3A>, method: Method) -> Memory {
     let p = &solver.particles;
-    let (seen, lanes) = solver.lane_mass_bytes();
+    let (seen, lanes) = solver.lane_bytes();
     let mut particles = ((p.x.len() + p.x_prev.len() + p.v.len()) * size_of::<Vec3A>() + p.w.len() * 4 + seen) as u64;
     let scene = solver.scene();
     let mut constraints = 0u64;

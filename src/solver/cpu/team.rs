@@ -34,9 +34,9 @@ use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{
     CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, checked_bound, fuses_predict, jacobi_element, local_adjusted,
-    plain_chunk, slot_ranges, start_energies, total_energy, update,
+    plain_chunk, start_energies, total_energy, update,
 };
-use crate::constraints::Element;
+use crate::constraints::{Element, LaneData};
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
 /// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster.
@@ -63,8 +63,8 @@ struct Views<'a, V: Vector> {
     /// Jacobi's per-constraint scales and its corrections, one per slot ([`jacobi::Slots`]).
     jacobi_scale: [&'a [V::S]; FAMILY_COUNT],
     corr: SharedPositions<'a, V>,
-    /// Each family's inverse masses slot by slot, for the SIMD kernels.
-    w_lanes: [&'a [f32]; FAMILY_COUNT],
+    /// Each family's elements slot by slot, for the SIMD kernels.
+    lanes: [&'a LaneData; FAMILY_COUNT],
     /// Each family's particle-index bound ([`FamilyState::bound`]).
     bound: [usize; FAMILY_COUNT],
 }
@@ -128,7 +128,7 @@ impl<V: Vector> CpuSolver<V> {
         let bound = self.fam.each_ref().map(|st| st.bound);
         let fam = self.fam.each_mut().map(|st| {
             let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
-            (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..], &st.w_lanes[..])
+            (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..], &st.lanes)
         });
         let views = Views {
             x: SharedPositions::new(&mut p.x),
@@ -144,7 +144,7 @@ impl<V: Vector> CpuSolver<V> {
             energy_start: fam.map(|f| f.1),
             jacobi_scale: fam.map(|f| f.2),
             corr,
-            w_lanes: fam.map(|f| f.3),
+            lanes: fam.map(|f| f.3),
             bound,
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
@@ -251,7 +251,7 @@ impl<V: Vector> CpuSolver<V> {
                         let x_prev = v.x_prev.read_all();
                         let family = &plan.families[i];
                         let how = Sweep { plain, bound: v.bound[i], local: ctx(i) };
-                        let w = (w, v.w_lanes[i]);
+                        let w = (w, v.lanes[i]);
                         team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
                     });
                     if let Some(parts) = plan.contacts.as_ref().filter(|_| s.contacts_in_loop(iteration)) {
@@ -424,7 +424,7 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     mut lambda: SharedPositions<'_, V::S>,
     x: &mut SharedPositions<'_, V>,
     x_prev: &[V],
-    (w, w_lanes): (&[V::S], &[f32]),
+    (w, lanes): (&[V::S], &LaneData),
     k: &StepConstants<V::S>,
     me: &Member<'_>,
     family: &FamilyPlan,
@@ -446,13 +446,13 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
                 }
             }
             Sweep { plain: true, .. } => {
-                let wl = slot_ranges(w_lanes, f.len(), start..start + es.len());
+                let lanes = lanes.view(start..start + es.len());
                 // SAFETY: every particle index of the family's elements is below `bound` ≤
                 // `x.len()` (checked once at the top of the sweep), `plain_chunk` touches only the
                 // particles of the elements it is given, and those are this worker's in the
                 // current group.
                 let x = &mut unsafe { Prechecked::shared(x) };
-                plain_chunk(es, ls, &f.params, x, x_prev, (w, wl), k)
+                plain_chunk(es, ls, &f.params, x, x_prev, (w, lanes), k)
             }
             Sweep { plain: false, .. } => {
                 for (e, l) in es.iter().zip(ls) {
