@@ -257,8 +257,8 @@ mod tests {
     use super::*;
     use glam::{Vec3, Vec3A};
 
-    /// Lane `l` of a gather is particle `idx[l]` (at its byte offset), and a scatter writes exactly the lanes of its
-    /// mask back, for the padded and the packed storage.
+    /// Lane `l` of a gather is particle `idx[l]` (at its byte offset), and a scatter writes
+    /// exactly the lanes of its mask back, for the padded and the packed storage.
     #[test]
     fn gather_and_scatter_are_transposes_lane_by_lane() {
         let x: Vec<Vec3> = (0..20).map(|i| Vec3::new(i as f32, 100.0 + i as f32, -(i as f32) - 0.5)).collect();

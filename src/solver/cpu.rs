@@ -191,10 +191,11 @@ impl<V: Vector> CpuSolver<V> {
         self.last = Some(k);
     }
 
-    /// Builds the families' [`FamilyState::lanes`] on first use and takes their inverse masses again from [`Particles::w`] where it changed
-    /// since they were taken (the particles are public: a caller may pin or free one between
-    /// frames), in `f32` for the families with a SIMD kernel; before a frame that runs the lean
-    /// kernels (plain Gauss-Seidel), the only one that reads them.
+    /// Builds the families' [`FamilyState::lanes`] on first use (offsets for positions of the size
+    /// of `V`) and takes their inverse masses again from [`Particles::w`] where it changed since
+    /// they were taken (the particles are public: a caller may pin or free one between frames), in
+    /// `f32` for the families with a SIMD kernel; before a frame that runs the lean kernels (plain
+    /// Gauss-Seidel), the only one that reads them.
     fn refresh_lanes(&mut self) {
         if !is_f32::<V::S>() || self.w_seen == self.particles.w {
             return;
@@ -542,7 +543,8 @@ fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
 ) {
     checked_bound(bound, x.len());
     // SAFETY: every particle index of the family's elements is below `bound` ≤ `x.len()`
-    // (checked above), and `plain_chunk` touches only the particles of the elements it is given.
+    // (checked above), the lanes' offsets are those indices times the size of `V`
+    // (`refresh_lanes`), and `plain_chunk` touches only the particles of the elements it is given.
     let x = &mut unsafe { Prechecked::slice(x) };
     for range in &f.colors {
         let (lo, hi) = (range.start as usize, range.end as usize);

@@ -448,9 +448,9 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
             Sweep { plain: true, .. } => {
                 let lanes = lanes.view(start..start + es.len());
                 // SAFETY: every particle index of the family's elements is below `bound` ≤
-                // `x.len()` (checked once at the top of the sweep), `plain_chunk` touches only the
-                // particles of the elements it is given, and those are this worker's in the
-                // current group.
+                // `x.len()` (checked once at the top of the sweep), the lanes' offsets are those
+                // indices times the size of `V`, `plain_chunk` touches only the particles of the
+                // elements it is given, and those are this worker's in the current group.
                 let x = &mut unsafe { Prechecked::shared(x) };
                 plain_chunk(es, ls, &f.params, x, x_prev, (w, lanes), k)
             }
