@@ -42,11 +42,9 @@ impl LaneData {
             return LaneData { len, ..LaneData::default() };
         }
         let mut at = vec![0; N * len];
+        by_slot(&mut at, elements, |p| p * stride as u32);
         let mut consts = vec![0.0; LANE_CONSTANTS * len];
         for (j, e) in elements.iter().enumerate() {
-            for (n, p) in e.particles().into_iter().enumerate() {
-                at[n * len + j] = p * stride as u32;
-            }
             for (m, c) in e.lane_constants().into_iter().enumerate() {
                 consts[m * len + j] = c;
             }
@@ -62,11 +60,7 @@ impl LaneData {
             return;
         }
         self.w.resize(N * len, 0.0);
-        for (j, e) in elements.iter().enumerate() {
-            for (n, p) in e.particles().into_iter().enumerate() {
-                self.w[n * len + j] = w[p as usize].to_f64() as f32;
-            }
-        }
+        by_slot(&mut self.w, elements, |p| w[p as usize].to_f64() as f32);
     }
 
     /// The slices of elements `range`, where every array is complete (offsets and masses taken).
@@ -90,6 +84,16 @@ impl LaneData {
     /// Bytes held (masses, offsets and constants).
     pub fn bytes(&self) -> usize {
         (self.w.len() + self.at.len() + self.consts.len()) * 4
+    }
+}
+
+/// Writes `value(p)` for particle `p` of slot `n` of element `j` to `out[n · len + j]`.
+fn by_slot<E: Element<N>, T, const N: usize>(out: &mut [T], elements: &[E], value: impl Fn(u32) -> T) {
+    let len = elements.len();
+    for (j, e) in elements.iter().enumerate() {
+        for (n, p) in e.particles().into_iter().enumerate() {
+            out[n * len + j] = value(p);
+        }
     }
 }
 
