@@ -26,7 +26,21 @@ pub trait Real:
     fn fast_atan2(self, x: Self) -> Self {
         self.atan2(x)
     }
+    /// `self·b + c`, rounded once where the build targets FMA ([`FUSED`]), else the product
+    /// and the sum each rounded (`self * b + c`). The in-place kernels (`project_plain` and
+    /// their SIMD twins) use it for every product that feeds a sum, so that both give the same
+    /// bits in either build.
+    #[inline(always)]
+    fn madd(self, b: Self, c: Self) -> Self {
+        if FUSED { self.mul_add(b, c) } else { self * b + c }
+    }
 }
+
+/// `true` where the build targets x86-64 FMA (`target-cpu=native` on any x86-64 CPU since about
+/// 2013, which the project's `.cargo/config.toml` selects): [`Real::madd`] and its vector and SIMD
+/// forms then fuse, and the in-place kernels' results differ in the last bits from a build
+/// without FMA (`tests/plain_regression.rs` keeps a checksum set for each).
+pub const FUSED: bool = cfg!(target_feature = "fma");
 
 impl Real for f32 {
     #[inline(always)]
@@ -45,10 +59,10 @@ impl Real for f32 {
 
 /// `atan2(y, x)` in `f32` without a library call: with `lo = min(|x|,|y|)`, `hi = max(|x|,|y|)`,
 /// `t = lo/hi` in `[0, 1]`, or `(lo − hi)/(lo + hi)` with `π/4` added above `tan(π/8)`; then the
-/// Cephes polynomial `atan t ≈ t + t³ P(t²)`, and the quadrant restored. One division and no
-/// data-dependent branch (the selects compile to blends), since bending angles change sign and
-/// octant unpredictably. Zero, infinite and NaN inputs take the library call, so every edge case
-/// matches it.
+/// Cephes polynomial `atan t ≈ t + t³ P(t²)` (Horner's steps through [`Real::madd`]), and the
+/// quadrant restored. One division and no data-dependent branch (the selects compile to blends),
+/// since bending angles change sign and octant unpredictably. Zero, infinite and NaN inputs take
+/// the library call, so every edge case matches it.
 #[inline(always)]
 fn atan2_f32(y: f32, x: f32) -> f32 {
     use std::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
@@ -62,8 +76,8 @@ fn atan2_f32(y: f32, x: f32) -> f32 {
     let t = if big { lo - hi } else { lo } / if big { lo + hi } else { hi };
     let base = if big { FRAC_PI_4 } else { 0.0 };
     let z = t * t;
-    let poly = (((8.053_744_5e-2 * z - 1.387_768_6e-1) * z + 1.997_771_1e-1) * z - 3.333_295e-1) * z;
-    let r = base + (t + t * poly);
+    let poly = 8.053_744_5e-2f32.madd(z, -1.387_768_6e-1).madd(z, 1.997_771_1e-1).madd(z, -3.333_295e-1) * z;
+    let r = base + t.madd(poly, t);
     let r = if swap { FRAC_PI_2 - r } else { r };
     let r = if x < 0.0 { PI - r } else { r };
     r.copysign(y)
@@ -132,6 +146,25 @@ pub trait Vector:
     /// Squared length.
     fn length_squared(self) -> Self::S {
         self.dot(self)
+    }
+    /// `z z' + (y y' + x x')` through [`Real::madd`]: the dot product of the in-place kernels
+    /// (the same bits as [`Vector::dot`] without FMA).
+    #[inline(always)]
+    fn dot_madd(self, o: Self) -> Self::S {
+        self.get(2).madd(o.get(2), self.get(1).madd(o.get(1), self.get(0) * o.get(0)))
+    }
+    /// The cross product of the in-place kernels: component `x` is `a.y b.z − b.y a.z` as
+    /// `madd(a.y, b.z, −(b.y a.z))`, and so on (the same bits as [`Vector::cross`] without FMA).
+    #[inline(always)]
+    fn cross_madd(self, o: Self) -> Self {
+        let (a, b) = (self, o);
+        let m = |i: usize, j: usize| a.get(i).madd(b.get(j), -(b.get(i) * a.get(j)));
+        Self::new(m(1, 2), m(2, 0), m(0, 1))
+    }
+    /// `self · s + c` component by component through [`Real::madd`].
+    #[inline(always)]
+    fn madd(self, s: Self::S, c: Self) -> Self {
+        Self::new(self.get(0).madd(s, c.get(0)), self.get(1).madd(s, c.get(1)), self.get(2).madd(s, c.get(2)))
     }
     /// Component `i` (0 = x, 1 = y, 2 = z).
     fn get(self, i: usize) -> Self::S;
@@ -214,6 +247,6 @@ pub fn c<S: Real>(v: f64) -> S {
 
 /// Traits whose methods the generic math calls (`sqrt`, `atan2`, `zero`, `one`, ...).
 pub mod prelude {
-    pub use super::{Real, Vector, c};
+    pub use super::{FUSED, Real, Vector, c};
     pub use num_traits::{Float, One, Zero};
 }

@@ -25,7 +25,8 @@ struct Dihedral {
     g3: vec3<f32>,
 }
 
-// atan2(y, x) with the operations of the CPU's f32 fast_atan2 (src/math.rs): one division, the
+// atan2(y, x) with the operations of the CPU's f32 fast_atan2 (src/math.rs; the CPU fuses its
+// multiply-adds where its build targets FMA, so the last bits may differ): one division, the
 // Cephes polynomial, the quadrant restored; zero, infinite and NaN inputs take the builtin.
 fn fast_atan2(y: f32, x: f32) -> f32 {
     let ax = abs(x);

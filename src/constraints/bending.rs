@@ -123,7 +123,8 @@ impl Element<4> for Bend {
 
     /// [`dihedral`] written for a short dependency chain: `θ = atan2((n₁ × n₂)·e, (n₁·n₂)|e|)`
     /// (both arguments scaled by `|e|`, so no `ê`), `|∇x₂θ|² = |e|²/|n₁|²`, `|∇x₃θ|² = |e|²/|n₂|²`,
-    /// and the divisions independent of each other.
+    /// and the divisions independent of each other; every product that feeds a sum through
+    /// [`Real::madd`] (fused where the build has FMA), as the SIMD kernel does.
     #[inline(always)]
     fn project_plain<V: Vector, P: Positions<V> + ?Sized>(
         &self,
@@ -138,38 +139,38 @@ impl Element<4> for Bend {
         let (x0, x1, x2, x3) = (x.get(i0), x.get(i1), x.get(i2), x.get(i3));
         let e = x1 - x0;
         let (a, b) = (x2 - x0, x3 - x0);
-        let n1 = e.cross(a);
-        let n2 = b.cross(e);
-        let e2 = e.length_squared();
-        let (n1s, n2s) = (n1.length_squared(), n2.length_squared());
+        let n1 = e.cross_madd(a);
+        let n2 = b.cross_madd(e);
+        let e2 = e.dot_madd(e);
+        let (n1s, n2s) = (n1.dot_madd(n1), n2.dot_madd(n2));
         let small = tiny::<V::S>();
         if !(e2 > small && n1s > small * e2 && n2s > small * e2) {
             return false;
         }
         let el = e2.sqrt();
-        let theta = n1.cross(n2).dot(e).fast_atan2(n1.dot(n2) * el);
+        let theta = n1.cross_madd(n2).dot_madd(e).fast_atan2(n1.dot_madd(n2) * el);
         let inv_e2 = V::S::one() / e2;
         let (q1, q2) = (el / n1s, el / n2s);
-        let (t2, t3) = (a.dot(e) * inv_e2, b.dot(e) * inv_e2);
+        let (t2, t3) = (a.dot_madd(e) * inv_e2, b.dot_madd(e) * inv_e2);
         let g2 = n1 * -q1;
         let g3 = n2 * -q2;
         let one = V::S::one();
-        let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
-        let g1 = -(g2 * t2) - g3 * t3;
+        let g0 = g3.madd(-(one - t3), -(g2 * (one - t2)));
+        let g1 = g3.madd(-t3, -(g2 * t2));
         let [w0, w1, w2, w3] = [w[i0], w[i1], w[i2], w[i3]];
-        let sum = w0 * g0.length_squared() + w1 * g1.length_squared() + (w2 * q1 + w3 * q2) * el;
+        let sum = w3.madd(q2, w2 * q1).madd(el, w1.madd(g1.dot_madd(g1), w0 * g0.dot_madd(g0)));
         let alpha_tilde = inv_h2 / <V::S as From<f32>>::from(self.k);
         let denom = sum + alpha_tilde;
         if denom.is_nan() || denom <= c(1e-20) {
             return false;
         }
         let cval = wrapped(theta, self.rest_angle.into());
-        let dl = (-cval - alpha_tilde * *lambda) / denom * sor;
+        let dl = alpha_tilde.madd(-*lambda, -cval) / denom * sor;
         *lambda += dl;
-        x.set(i0, x0 + g0 * (w0 * dl));
-        x.set(i1, x1 + g1 * (w1 * dl));
-        x.set(i2, x2 + g2 * (w2 * dl));
-        x.set(i3, x3 + g3 * (w3 * dl));
+        x.set(i0, g0.madd(w0 * dl, x0));
+        x.set(i1, g1.madd(w1 * dl, x1));
+        x.set(i2, g2.madd(w2 * dl, x2));
+        x.set(i3, g3.madd(w3 * dl, x3));
         true
     }
 
@@ -191,7 +192,7 @@ impl Element<4> for Bend {
         inv_h2: V::S,
         sor: V::S,
     ) -> u32 {
-        use simd::{Lanes, WIDTH};
+        use simd::{Lanes, WIDTH, madd};
         let at = lanes.at;
         let xs = [simd::gather(x, at[0]), simd::gather(x, at[1]), simd::gather(x, at[2]), simd::gather(x, at[3])];
         let ws = lanes.w.map(simd::load);
@@ -213,9 +214,10 @@ impl Element<4> for Bend {
         let (t2, t3) = (a.dot(e) * inv_e2, b.dot(e) * inv_e2);
         let g2 = n1 * -q1;
         let g3 = n2 * -q2;
-        let g0 = -(g2 * (one - t2)) - g3 * (one - t3);
-        let g1 = -(g2 * t2) - g3 * t3;
-        let sum = ws[0] * g0.length_squared() + ws[1] * g1.length_squared() + (ws[2] * q1 + ws[3] * q2) * elen;
+        let g0 = g3.madd(-(one - t3), -(g2 * (one - t2)));
+        let g1 = g3.madd(-t3, -(g2 * t2));
+        let sum =
+            madd(madd(ws[3], q2, ws[2] * q1), elen, madd(ws[1], g1.length_squared(), ws[0] * g0.length_squared()));
         let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / k;
         let denom = sum + alpha_tilde;
         ok &= denom.simd_gt(Lanes::splat(1e-20));
@@ -226,13 +228,13 @@ impl Element<4> for Bend {
         let cval = d.simd_le(-pi).select(d + two_pi, d);
         let lam = simd::lanes(lambda);
         let sor = Lanes::splat(sor.to_f64() as f32);
-        let dl = ok.select((-cval - alpha_tilde * lam) / denom * sor, Lanes::ZERO);
+        let dl = ok.select(madd(alpha_tilde, -lam, -cval) / denom * sor, Lanes::ZERO);
         let mask = ok.to_bitmask();
         simd::store_masked(lambda, lam + dl, mask);
-        simd::scatter(x, at[0], xs[0] + g0 * (ws[0] * dl), mask);
-        simd::scatter(x, at[1], xs[1] + g1 * (ws[1] * dl), mask);
-        simd::scatter(x, at[2], xs[2] + g2 * (ws[2] * dl), mask);
-        simd::scatter(x, at[3], xs[3] + g3 * (ws[3] * dl), mask);
+        simd::scatter(x, at[0], g0.madd(ws[0] * dl, xs[0]), mask);
+        simd::scatter(x, at[1], g1.madd(ws[1] * dl, xs[1]), mask);
+        simd::scatter(x, at[2], g2.madd(ws[2] * dl, xs[2]), mask);
+        simd::scatter(x, at[3], g3.madd(ws[3] * dl, xs[3]), mask);
         !mask & ((1 << WIDTH) - 1)
     }
 }

@@ -5,9 +5,9 @@
 //! where the target has AVX, which the project's `.cargo/config.toml` enables on machines that
 //! have it (`target-cpu=native`), else 4 (`wide::f32x4`, SSE2 on x86-64, NEON on ARM).
 //!
-//! Every operation is the one the scalar kernels perform, in the same order (glam's `dot` and
-//! `cross`, [`Real::fast_atan2`]), so a lane gives the same bits as the scalar kernel on that
-//! element, at either width. The kernels run on `f32` only; the conversions below are the
+//! Every operation is the one the scalar kernels perform, in the same order ([`Vector::dot_madd`],
+//! [`Vector::cross_madd`], [`Real::madd`], [`Real::fast_atan2`]), so a lane gives the same bits as
+//! the scalar kernel on that element, at either width, with FMA or without. The kernels run on `f32` only; the conversions below are the
 //! identity there.
 
 use std::ops::{Add, Mul, Neg, Sub};
@@ -35,16 +35,26 @@ pub(crate) struct V3 {
 }
 
 impl V3 {
-    /// `(x·x') + (y·y') + (z·z')`, glam's order.
+    /// [`Vector::dot_madd`] lane by lane: `z z' + (y y' + x x')` through [`madd`].
     #[inline(always)]
     pub fn dot(self, o: V3) -> Lanes {
-        (self.x * o.x) + (self.y * o.y) + (self.z * o.z)
+        madd(self.z, o.z, madd(self.y, o.y, self.x * o.x))
     }
 
-    /// glam's cross product, term for term.
+    /// [`Vector::cross_madd`] lane by lane: `x = madd(y, o.z, −(o.y z))`, and so on.
     #[inline(always)]
     pub fn cross(self, o: V3) -> V3 {
-        V3 { x: self.y * o.z - o.y * self.z, y: self.z * o.x - o.z * self.x, z: self.x * o.y - o.x * self.y }
+        V3 {
+            x: madd(self.y, o.z, -(o.y * self.z)),
+            y: madd(self.z, o.x, -(o.z * self.x)),
+            z: madd(self.x, o.y, -(o.x * self.y)),
+        }
+    }
+
+    /// [`Vector::madd`] lane by lane: `self · s + c`.
+    #[inline(always)]
+    pub fn madd(self, s: Lanes, c: V3) -> V3 {
+        V3 { x: madd(self.x, s, c.x), y: madd(self.y, s, c.y), z: madd(self.z, s, c.z) }
     }
 
     /// Squared length.
@@ -84,6 +94,13 @@ impl Mul<Lanes> for V3 {
     fn mul(self, s: Lanes) -> V3 {
         V3 { x: self.x * s, y: self.y * s, z: self.z * s }
     }
+}
+
+/// [`Real::madd`] lane by lane: `a·b + c`, rounded once where the build targets FMA
+/// ([`FUSED`]), else the product and the sum each rounded.
+#[inline(always)]
+pub(crate) fn madd(a: Lanes, b: Lanes, c: Lanes) -> Lanes {
+    if FUSED { a.mul_add(b, c) } else { a * b + c }
 }
 
 /// `true` when the scalar type is `f32`, the one precision the SIMD kernels serve.
@@ -242,11 +259,9 @@ pub(crate) fn atan2(y: Lanes, x: Lanes) -> (Lanes, Lanes) {
     let t = big.select(lo - hi, lo) / big.select(lo + hi, hi);
     let base = big.select(Lanes::splat(FRAC_PI_4), Lanes::ZERO);
     let z = t * t;
-    let poly = (((Lanes::splat(8.053_744_5e-2) * z - Lanes::splat(1.387_768_6e-1)) * z + Lanes::splat(1.997_771_1e-1))
-        * z
-        - Lanes::splat(3.333_295e-1))
-        * z;
-    let r = base + (t + t * poly);
+    let poly = madd(Lanes::splat(8.053_744_5e-2), z, Lanes::splat(-1.387_768_6e-1));
+    let poly = madd(madd(poly, z, Lanes::splat(1.997_771_1e-1)), z, Lanes::splat(-3.333_295e-1)) * z;
+    let r = base + madd(t, poly, t);
     let r = swap.select(Lanes::splat(FRAC_PI_2) - r, r);
     let r = x.simd_lt(Lanes::ZERO).select(Lanes::splat(PI) - r, r);
     (r | (y & Lanes::splat(-0.0)), ok)

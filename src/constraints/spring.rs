@@ -152,7 +152,7 @@ impl Element<2> for Spring {
         let (xa, xb) = (x.get(a), x.get(b));
         let (wa, wb) = (w[a], w[b]);
         let d = xb - xa;
-        let len = d.length();
+        let len = d.dot_madd(d).sqrt();
         if len.is_nan() || len <= tiny::<V::S>() {
             return false;
         }
@@ -163,10 +163,10 @@ impl Element<2> for Spring {
         }
         let l0: V::S = self.rest.into();
         // One division on the dependency chain: `s = Δλ/|d|`, then `Δλ = s |d|`.
-        let s = (l0 - len - alpha_tilde * *lambda) * sor / (denom * len);
-        *lambda += s * len;
-        x.set(a, xa - d * (wa * s));
-        x.set(b, xb + d * (wb * s));
+        let s = alpha_tilde.madd(-*lambda, l0 - len) * sor / (denom * len);
+        *lambda = s.madd(len, *lambda);
+        x.set(a, d.madd(-(wa * s), xa));
+        x.set(b, d.madd(wb * s, xb));
         true
     }
 
@@ -188,7 +188,7 @@ impl Element<2> for Spring {
         inv_h2: V::S,
         sor: V::S,
     ) -> u32 {
-        use simd::{Lanes, WIDTH};
+        use simd::{Lanes, WIDTH, madd};
         let all = (1 << WIDTH) - 1;
         if p.material != SpringMaterial::Hookean {
             return all;
@@ -204,11 +204,11 @@ impl Element<2> for Spring {
         let ok = len.simd_gt(Lanes::splat(1e-12)) & denom.simd_gt(Lanes::splat(1e-20));
         let lam = simd::lanes(lambda);
         let sor = Lanes::splat(sor.to_f64() as f32);
-        let s = ok.select((l0 - len - alpha_tilde * lam) * sor / (denom * len), Lanes::ZERO);
+        let s = ok.select(madd(alpha_tilde, -lam, l0 - len) * sor / (denom * len), Lanes::ZERO);
         let mask = ok.to_bitmask();
-        simd::store_masked(lambda, lam + s * len, mask);
-        simd::scatter(x, ia, xa - d * (wa * s), mask);
-        simd::scatter(x, ib, xb + d * (wb * s), mask);
+        simd::store_masked(lambda, madd(s, len, lam), mask);
+        simd::scatter(x, ia, d.madd(-(wa * s), xa), mask);
+        simd::scatter(x, ib, d.madd(wb * s, xb), mask);
         !mask & all
     }
 }
