@@ -13,11 +13,10 @@ use std::sync::Barrier;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
-use eapbd::scene::{self, Scene};
+use eapbd::scene::Scene;
 use eapbd::solver::{CpuSolver, Settings};
 use glam::Vec3A;
 
-use super::cases::peer_options;
 use super::timing::median;
 
 /// Frames each solver runs before its timed frames.
@@ -27,7 +26,8 @@ const ROUND_TRIPS: u64 = 100_000;
 /// The cache-line check gives up after this long (s).
 const ROUND_TRIP_LIMIT_S: f64 = 1.0;
 
-/// The peer scene's frame on one thread alone and with a second solver on the other core.
+/// The peer scene's frame on one thread alone and with a second solver on the other core, and
+/// the cache line's round trip between the two cores.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HostCheck {
     /// Median frame (ms) of one solver alone.
@@ -46,21 +46,21 @@ impl HostCheck {
     }
 }
 
-/// Times `rounds` rounds of `frames` frames alone, then as a pair; `None` on a machine (or an
-/// affinity mask) with fewer than two cores.
-pub fn check(frames: usize, rounds: usize) -> anyhow::Result<Option<HostCheck>> {
+/// Times the round trip, then `rounds` rounds of `frames` frames of `peer` (the peer scene, built
+/// once by the caller) alone and as a pair; `None` on a machine (or an affinity mask) with fewer
+/// than two cores.
+pub fn check(peer: &Scene, frames: usize, rounds: usize) -> Option<HostCheck> {
     let cores = core_affinity::get_core_ids().unwrap_or_default();
     if cores.len() < 2 {
-        return Ok(None);
+        return None;
     }
-    let scene = scene::build("cloth", &peer_options())?;
     let (mut alone, mut together) = (Vec::new(), Vec::new());
     let round_trip_ns = round_trip(cores[0], cores[1]);
     for _ in 0..rounds.max(1) {
-        alone.extend(run_pinned(&scene, &cores[..1], frames));
-        together.extend(run_pinned(&scene, &cores[..2], frames));
+        alone.extend(run_pinned(peer, &cores[..1], frames));
+        together.extend(run_pinned(peer, &cores[..2], frames));
     }
-    Ok(Some(HostCheck { alone_ms: median(&mut alone), together_ms: median(&mut together), round_trip_ns }))
+    Some(HostCheck { alone_ms: median(&mut alone), together_ms: median(&mut together), round_trip_ns })
 }
 
 /// The mean time (ns) of [`ROUND_TRIPS`] round trips of a counter between a thread on core `a`
@@ -196,13 +196,13 @@ mod tests {
     #[test]
     fn the_check_times_one_solver_and_a_pair() {
         let before = core_affinity::get_core_ids().unwrap_or_default().len();
-        let Some(c) = check(2, 1).unwrap() else { return };
+        let scene = eapbd::scene::build("cloth", &super::super::cases::peer_options()).unwrap();
+        let Some(c) = check(&scene, 2, 1) else { return };
         assert_eq!(core_affinity::get_core_ids().unwrap_or_default().len(), before, "the caller was pinned");
         assert!(c.alone_ms.is_finite() && c.alone_ms > 0.0, "{c:?}");
         assert!(c.together_ms.is_finite() && c.together_ms > 0.0, "{c:?}");
         assert!(c.round_trip_ns.is_finite() && c.round_trip_ns > 0.0, "{c:?}");
         let cores = core_affinity::get_core_ids().unwrap();
-        let scene = scene::build("cloth", &peer_options()).unwrap();
         assert_eq!(run_pinned(&scene, &cores[..2], 3).len(), 6);
     }
 }

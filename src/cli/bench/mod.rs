@@ -54,7 +54,8 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     // its own on the same cores, and a CPU team measured next to them pays for it. The host
     // check on either side of them says what the host gave the two cores meanwhile.
     bar.set_message("host check");
-    let host_before = host::check(plan.host_check.0, plan.host_check.1)?;
+    let peer = scene::build("cloth", &cases::peer_options())?;
+    let host_before = host::check(&peer, plan.host_check.0, plan.host_check.1);
     let mut rows = Vec::new();
     let mut scenes = Vec::with_capacity(plan.cases.len());
     for (c, case) in plan.cases.iter().enumerate() {
@@ -79,7 +80,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
         bar.inc(2);
     }
     bar.set_message("host check");
-    let host_after = host::check(plan.host_check.0, plan.host_check.1)?;
+    let host_after = host::check(&peer, plan.host_check.0, plan.host_check.1);
 
     let gpu = if a.cpu_only {
         None

@@ -99,7 +99,7 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
             }
         }
     }
-    let host = host::check(HOST_FRAMES, 1)?.map(|c| (c.pair_speedup(), c.round_trip_ns));
+    let host = host::check(&scene, HOST_FRAMES, 1).map(|c| (c.pair_speedup(), c.round_trip_ns));
     let n = frames.max(1) as f64;
     Ok(runs
         .into_iter()
