@@ -157,7 +157,8 @@ pub fn line(before: Option<HostCheck>, after: Option<HostCheck>) -> String {
          once, one per core, and a cache line's round trip between the two cores: before the CPU timings two cores \
          did {:.2}× the work of one (frames {:.2} ms alone, {:.2} ms as a pair) and the round trip took {}; \
          after them {:.2}× ({:.2}, {:.2} ms) and {}. 2× is two full cores, 1× a pair that does what one \
-         core does; the team, which shares particles between the cores, runs slower when the round trip is long.\n",
+         core does. In the host's slow minutes one core alone is slower too and the round trip is most often long, \
+         and the team, whose threads meet at every color group, loses more (BENCHMARKS.md, \"What next\").\n",
         b.pair_speedup(),
         b.alone_ms,
         b.together_ms,
