@@ -7,8 +7,8 @@
 //!
 //! Every operation is the one the scalar kernels perform, in the same order ([`Vector::dot_madd`],
 //! [`Vector::cross_madd`], [`Real::madd`], [`Real::fast_atan2`]), so a lane gives the same bits as
-//! the scalar kernel on that element, at either width, with FMA or without. The kernels run on `f32` only; the conversions below are the
-//! identity there.
+//! the scalar kernel on that element, at either width, with FMA or without. The kernels run on
+//! `f32` only; the conversions below are the identity there.
 
 use std::ops::{Add, Mul, Neg, Sub};
 

@@ -148,7 +148,7 @@ pub fn peer_table(splits: &[Split]) -> String {
             of(Backend::CpuAll).and_then(|x| x.team_wait).map_or("–".into(), |w| format!("{:.0} %", 100.0 * w)),
             single.stretch_grid,
             single.stretch_all,
-            sp.host.map_or("–".into(), |(pair, trip)| format!("{pair:.2}×, {}", host::trip(trip)))
+            sp.host.map_or("–".into(), |h| format!("{:.2}×, {}", h.pair_speedup(), host::trip(h.round_trip_ns)))
         );
     }
     s
@@ -342,8 +342,8 @@ pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
             p.stretch_all,
             p.median_ms,
             p.team_wait.map_or(String::new(), |w| format!("{w:.4}")),
-            p.host.map_or(String::new(), |(pair, _)| format!("{pair:.3}")),
-            p.host.map_or(String::new(), |(_, trip)| format!("{trip:.0}"))
+            p.host.map_or(String::new(), |h| format!("{:.3}", h.pair_speedup())),
+            p.host.map_or(String::new(), |h| format!("{:.0}", h.round_trip_ns))
         );
     }
     write(dir, "peer.csv", &csv)
@@ -366,7 +366,7 @@ mod tests {
             stretch_grid: stretch,
             stretch_all: stretch,
             team_wait,
-            host: Some((1.5, 140.0)),
+            host: Some(host::HostCheck { alone_ms: 3.0, together_ms: 4.0, round_trip_ns: 140.0 }),
         }
     }
 

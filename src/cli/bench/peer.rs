@@ -37,10 +37,10 @@ pub struct Split {
     /// The fraction of the team's thread time spent waiting for one another in the timed frames
     /// ([`eapbd::solver::TeamTime::wait_fraction`]); `None` where no timed frame ran on the team.
     pub team_wait: Option<f64>,
-    /// The host check made right after the split's turns: [`host::HostCheck::pair_speedup`] (2
-    /// for two full cores, about 1 when the host gave the pair little more than one) and the
-    /// cache line's round trip between the cores (ns); `None` with fewer than two cores.
-    pub host: Option<(f64, f64)>,
+    /// The host check made right after the split's turns (its [`host::HostCheck::pair_speedup`]
+    /// is 2 for two full cores, about 1 when the host gave the pair little more than one);
+    /// `None` with fewer than two cores.
+    pub host: Option<host::HostCheck>,
 }
 
 /// Frames per solver of the host check after each split (one round).
@@ -99,7 +99,7 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
             }
         }
     }
-    let host = host::check(&scene, HOST_FRAMES, 1).map(|c| (c.pair_speedup(), c.round_trip_ns));
+    let host = host::check(&scene, HOST_FRAMES, 1);
     let n = frames.max(1) as f64;
     Ok(runs
         .into_iter()
