@@ -91,6 +91,69 @@ pub fn elastic_energy<V: Vector>(scene: &Scene, x: &[V]) -> f64 {
     sum
 }
 
+/// The iterate's elastic energy split into the part the constraint forces hold and the
+/// unresolved rest (J).
+///
+/// For constraint `j` with material energy `Eⱼ(x)` the ratio of the force the solve applied to
+/// the material's own force at the iterate is `ρⱼ = |α̃ⱼλⱼ / Cⱼ|` in the compliant form (the
+/// force `λⱼ/h²` against `Cⱼ/αⱼ`) and `ρⱼ = |λⱼ| / h²` in the energy form (the force `λⱼ∇E/h²`
+/// against `∇E`). The energy the applied force holds is `ρⱼ² Eⱼ` (the energy of the deformation
+/// that force would hold; `½ αⱼλⱼ²/h⁴` in the compliant form, exact for energies quadratic in
+/// `Cⱼ`), so the held part is `Eⱼ min(1, ρⱼ²)` and the unresolved part `Eⱼ max(0, 1 − ρⱼ²)`.
+/// Equivalently, in the compliant form the held deformation is `Cⱼ − rⱼ = −α̃ⱼλⱼ`, the constraint
+/// value less its XPBD residual `rⱼ = Cⱼ + α̃ⱼλⱼ`. A converged solve has `rⱼ = 0`, nothing
+/// unresolved; an under-converged one leaves stretch that no force backs, and counting it as
+/// potential energy is what makes a few iterations look like a gain of hundreds of joules.
+/// Without multipliers (before the first step), and for an infinitely stiff constraint
+/// (`α = 0`), the whole energy counts as held.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ElasticAccount {
+    /// `Σⱼ Eⱼ(x)`, the material energy of the iterate (J).
+    pub material: f64,
+    /// `Σⱼ Eⱼ max(0, 1 − ρⱼ²)`, the part no constraint force holds (J).
+    pub unresolved: f64,
+}
+
+impl ElasticAccount {
+    /// The part the constraint forces hold, `material − unresolved` (J).
+    pub fn held(&self) -> f64 {
+        self.material - self.unresolved
+    }
+}
+
+/// The [`ElasticAccount`] of the iterate `x` with the multipliers `λ` of a substep run with
+/// constants `k` (`None`: before the first step, nothing unresolved).
+pub fn elastic_account<V: Vector>(
+    scene: &Scene,
+    x: &[V],
+    lambdas: Lambdas<'_, V::S>,
+    k: Option<&StepConstants<V::S>>,
+) -> ElasticAccount {
+    let Some(k) = k else {
+        return ElasticAccount { material: elastic_energy(scene, x), unresolved: 0.0 };
+    };
+    let mut acc = ElasticAccount::default();
+    crate::for_each_family!(scene, |i, f| {
+        for (e, &l) in f.elements.iter().zip(lambdas[i]) {
+            let xs = gather(x, e.particles());
+            let energy = e.energy(&f.params, &xs).to_f64();
+            let proj = e.constraint(&f.params, &xs, k.form, k.energy_compliance);
+            let (c_val, alpha, l, inv_h2) = (proj.c.to_f64(), proj.alpha.to_f64(), l.to_f64(), k.inv_h2.to_f64());
+            let held = match k.form {
+                // An infinitely stiff constraint (α = 0) has no deformation of its own to hold.
+                crate::constraints::Form::Compliant if c_val != 0.0 && alpha > 0.0 => {
+                    (alpha * inv_h2 * l / c_val).powi(2)
+                }
+                crate::constraints::Form::Compliant => 1.0,
+                crate::constraints::Form::Energy => (l * inv_h2).powi(2),
+            };
+            acc.material += energy;
+            acc.unresolved += energy * (1.0 - held).max(0.0);
+        }
+    });
+    acc
+}
+
 /// A simulation state to measure: positions, velocities, inverse masses, and the multipliers
 /// and constants of the last substep (if one has run).
 #[derive(Clone, Copy, Debug)]
@@ -143,17 +206,28 @@ pub struct FrameStats {
     pub kinetic: f64,
     /// Gravitational energy (J).
     pub gravitational: f64,
-    /// Elastic (material) energy (J).
+    /// Elastic energy the constraint forces hold (J): the iterate's material energy less
+    /// [`FrameStats::unresolved`] ([`ElasticAccount::held`]).
     pub elastic: f64,
+    /// The iterate's material energy that no constraint force holds (J,
+    /// [`ElasticAccount::unresolved`]): unresolved stretch, not energy of the body. Reported apart
+    /// and left out of [`FrameStats::total`].
+    pub unresolved: f64,
     /// Work of physical dissipation since the start (J, ≤ 0 for losses): velocity damping and
     /// the final contact pass. `total − dissipated` is what an exact integrator would conserve.
     pub dissipated: f64,
 }
 
 impl FrameStats {
-    /// Kinetic + gravitational + elastic (J).
+    /// Kinetic + gravitational + held elastic energy (J): the energy of the body, without the
+    /// unresolved part.
     pub fn total(&self) -> f64 {
         self.kinetic + self.gravitational + self.elastic
+    }
+
+    /// The iterate's whole material energy, held and unresolved (J).
+    pub fn material(&self) -> f64 {
+        self.elastic + self.unresolved
     }
 
     /// `true` when every figure is finite.
@@ -172,6 +246,7 @@ impl FrameStats {
     pub fn of_state<V: Vector>(scene: &Scene, s: &StateView<'_, V>, frame: u32, time_ms: f64) -> Self {
         let (residual_rms, residual_max) = s.constants.map_or((0.0, 0.0), |k| residual(scene, s.x, s.lambdas, k));
         let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.edge_rest, s.x);
+        let account = elastic_account(scene, s.x, s.lambdas, s.constants);
         FrameStats {
             frame,
             time_ms,
@@ -181,18 +256,19 @@ impl FrameStats {
             stretch_max,
             kinetic: kinetic(s.v, s.w),
             gravitational: gravitational(scene, s.x, s.w),
-            elastic: elastic_energy(scene, s.x),
+            elastic: account.held(),
+            unresolved: account.unresolved,
             dissipated: s.dissipated,
         }
     }
 
     /// Column names of [`FrameStats::csv_row`].
-    pub const CSV_HEADER: &'static str = "frame,time_ms,residual_rms,residual_max,stretch_mean,stretch_max,kinetic_j,gravitational_j,elastic_j,total_j,dissipated_j";
+    pub const CSV_HEADER: &'static str = "frame,time_ms,residual_rms,residual_max,stretch_mean,stretch_max,kinetic_j,gravitational_j,elastic_j,total_j,dissipated_j,unresolved_j";
 
     /// One CSV row.
     pub fn csv_row(&self) -> String {
         format!(
-            "{},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+            "{},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
             self.frame,
             self.time_ms,
             self.residual_rms,
@@ -203,7 +279,8 @@ impl FrameStats {
             self.gravitational,
             self.elastic,
             self.total(),
-            self.dissipated
+            self.dissipated,
+            self.unresolved
         )
     }
 }
@@ -212,7 +289,7 @@ impl std::fmt::Display for FrameStats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "frame {:5}  {:8.3} ms  residual rms {:.3e} max {:.3e}  stretch mean {:.3e} max {:.3e}  KE {:.4e} J  GPE {:+.4e} J  elastic {:.4e} J  total {:+.4e} J  dissipated {:+.3e} J",
+            "frame {:5}  {:8.3} ms  residual rms {:.3e} max {:.3e}  stretch mean {:.3e} max {:.3e}  KE {:.4e} J  GPE {:+.4e} J  elastic {:.4e} J  total {:+.4e} J  dissipated {:+.3e} J  unresolved {:.3e} J",
             self.frame,
             self.time_ms,
             self.residual_rms,
@@ -223,7 +300,8 @@ impl std::fmt::Display for FrameStats {
             self.gravitational,
             self.elastic,
             self.total(),
-            self.dissipated
+            self.dissipated,
+            self.unresolved
         )
     }
 }

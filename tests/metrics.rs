@@ -34,3 +34,60 @@ fn grid_stretch_leaves_out_the_diagonals() {
     let (all, _) = stretch(&s.edges, &s.edge_rest, &x);
     assert!((all - mean).abs() > 1e-4, "every edge {all}, grid edges {mean}");
 }
+
+mod elastic_account {
+    use eapbd::constraints::Form;
+    use eapbd::metrics::FrameStats;
+    use eapbd::scene::{self, SceneOptions};
+    use eapbd::solver::{CpuSolver, Settings};
+    use glam::Vec3A;
+
+    /// A 5×5 hanging cloth (k = 1000 N/m) after 200 frames of one substep.
+    fn hanging(iterations: u32, form: Form) -> FrameStats {
+        let opts = SceneOptions { resolution: Some(5), stiffness: 1e3, ..SceneOptions::default() };
+        let mut sv = CpuSolver::<Vec3A>::new(scene::build("cloth", &opts).unwrap());
+        let s = Settings { iterations, form, threads: 1, ..Settings::default() };
+        for _ in 0..200 {
+            sv.step_frame(&s);
+        }
+        FrameStats::measure(&sv, 200, 0.0)
+    }
+
+    #[test]
+    fn a_converged_solve_leaves_nothing_unresolved() {
+        let s = hanging(500, Form::Compliant);
+        println!("500 iterations: held {:.4e} J, unresolved {:.4e} J", s.elastic, s.unresolved);
+        assert!(s.elastic > 0.0);
+        assert!(s.unresolved < 1e-4 * s.elastic, "held {:.4e} J, unresolved {:.4e} J", s.elastic, s.unresolved);
+    }
+
+    #[test]
+    fn one_iteration_leaves_most_of_the_stretch_unresolved_and_out_of_the_total() {
+        let s = hanging(1, Form::Compliant);
+        println!("1 iteration: held {:.4e} J, unresolved {:.4e} J", s.elastic, s.unresolved);
+        assert!(s.unresolved > 10.0 * s.elastic, "held {:.4e} J, unresolved {:.4e} J", s.elastic, s.unresolved);
+        assert_eq!(s.total(), s.kinetic + s.gravitational + s.elastic);
+        assert!((s.material() - (s.elastic + s.unresolved)).abs() <= 1e-12 * s.material());
+    }
+
+    #[test]
+    fn the_energy_form_is_split_too() {
+        let (converged, few) = (hanging(500, Form::Energy), hanging(2, Form::Energy));
+        println!(
+            "energy form: 500 iterations held {:.4e} J unresolved {:.4e} J; 2 iterations held {:.4e} J unresolved {:.4e} J",
+            converged.elastic, converged.unresolved, few.elastic, few.unresolved
+        );
+        assert!(converged.is_finite() && few.is_finite());
+        assert!(converged.unresolved < 0.2 * converged.material());
+        assert!(few.unresolved > 0.9 * few.material());
+    }
+
+    #[test]
+    fn before_a_step_everything_counts_as_held() {
+        let opts = SceneOptions { resolution: Some(5), stiffness: 1e3, ..SceneOptions::default() };
+        let sv = CpuSolver::<Vec3A>::new(scene::build("cloth-free", &opts).unwrap());
+        let s = FrameStats::measure(&sv, 0, 0.0);
+        assert!(s.elastic > 0.0, "cloth-free starts stretched");
+        assert_eq!(s.unresolved, 0.0);
+    }
+}

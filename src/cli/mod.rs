@@ -171,8 +171,9 @@ pub struct SceneArgs {
     /// Compliance α of the energy form.
     #[arg(long, allow_negative_numbers = true, default_value_t = 1.0e-5)]
     pub energy_compliance: f32,
-    /// Energy-aware Gauss-Seidel: off, local (the paper's per-constraint reading) or global
-    /// (one energy balance per substep; "on" means global).
+    /// Energy-aware Gauss-Seidel: off, local (the paper's per-constraint reading), global (one
+    /// balance of the iterate's energy per substep) or project (the energy-momentum projection
+    /// of the honest energy after every frame, CPU only so far; "on" means project).
     #[arg(long, default_value = "off", value_parser = named::<EnergyAware>)]
     pub energy_aware: EnergyAware,
     /// Successive over-relaxation ω (every Δλ times ω; 1 = plain, 1.5 is the usual baseline).

@@ -53,7 +53,8 @@ pub struct GpuEnergies {
     pub kinetic: f64,
     /// Gravitational energy, heights from the ground as in [`FrameStats`].
     pub gravitational: f64,
-    /// Elastic (material) energy.
+    /// The iterate's material energy, held and unresolved alike (the CPU's
+    /// [`FrameStats::material`]).
     pub elastic: f64,
     /// Work of physical dissipation since the start.
     pub dissipated: f64,
@@ -534,6 +535,8 @@ impl GpuSolver {
             EnergyAware::Off => 0,
             EnergyAware::Local => 1 + present + s.iterations.saturating_sub(1) as u64,
             EnergyAware::Global => present + 3,
+            // Not encoded on the GPU yet: `Settings::validate_for` refuses it there.
+            EnergyAware::Project => 0,
         };
         // The last iteration's contact pass runs in the finish kernel.
         let in_finish = s.contacts_in_finish() as u64;
@@ -666,8 +669,14 @@ impl GpuSolver {
     /// Measures the current state (reads it back).
     pub fn stats(&self, frame: u32, time_ms: f64) -> Result<FrameStats> {
         let st = self.read_state()?;
-        let k = self.last.as_ref().map(StepConstants::<f32>::new);
+        let k = self.last_constants();
         Ok(FrameStats::of_state(&self.scene, &st.view(k.as_ref()), frame, time_ms))
+    }
+
+    /// Constants of the last frame's substeps, if a frame has run (for residuals and the
+    /// honest energy account's split).
+    pub fn last_constants(&self) -> Option<StepConstants<f32>> {
+        self.last.as_ref().map(StepConstants::<f32>::new)
     }
 }
 

@@ -253,13 +253,13 @@ pub fn write_outputs(dir: &Path, opts: &StudyOptions, results: &[RunResult]) -> 
 
     let series = dir.join("energy_series.csv");
     let mut f = std::io::BufWriter::new(std::fs::File::create(&series).map_err(io(&series))?);
-    writeln!(f, "scene,variant,iterations,dt_s,time_s,kinetic_j,gravitational_j,elastic_j,total_j,dissipated_j,stretch_mean,stretch_max")
+    writeln!(f, "scene,variant,iterations,dt_s,time_s,kinetic_j,gravitational_j,elastic_j,total_j,dissipated_j,stretch_mean,stretch_max,unresolved_j")
         .map_err(io(&series))?;
     for r in results {
         for (t, s) in &r.series {
             writeln!(
                 f,
-                "{},{},{},{:.6},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
+                "{},{},{},{:.6},{:.4},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e},{:.6e}",
                 r.scene,
                 r.variant.name(),
                 r.iterations,
@@ -271,7 +271,8 @@ pub fn write_outputs(dir: &Path, opts: &StudyOptions, results: &[RunResult]) -> 
                 s.total(),
                 s.dissipated,
                 s.stretch_mean,
-                s.stretch_max
+                s.stretch_max,
+                s.unresolved
             )
             .map_err(io(&series))?;
         }

@@ -16,5 +16,7 @@ pub mod equilibrium;
 pub mod error_time;
 mod error_time_output;
 pub mod plot;
+pub mod splits;
+mod splits_output;
 pub mod stability;
 mod stability_output;

@@ -529,7 +529,8 @@ fn measure(sim: &Simulation, measure: &Scene, frame: u32) -> Result<(FrameStats,
                 return Ok((g.stats(frame, 0.0)?, g.read_positions()?));
             }
             let st = g.read_state()?;
-            Ok((FrameStats::of_state(measure, &st.view(None), frame, 0.0), st.x.clone()))
+            let k = g.last_constants();
+            Ok((FrameStats::of_state(measure, &st.view(k.as_ref()), frame, 0.0), st.x.clone()))
         }
     }
 }

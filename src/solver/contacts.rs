@@ -35,6 +35,16 @@ impl<'a, V: Vector> Colliders<'a, V> {
         self.spheres.is_empty() && x.get(1).partial_cmp(&self.floor) != Some(std::cmp::Ordering::Less)
     }
 
+    /// The distance from `x` to the nearest collider's contact surface (m; negative inside,
+    /// `+∞` without a collider).
+    pub fn distance(&self, x: V) -> f64 {
+        let ground = self.ground.map_or(f64::INFINITY, |(floor, _)| (x.get(1) - floor).to_f64());
+        self.spheres.iter().fold(ground, |d, s| {
+            let r = <V::S as From<f32>>::from(s.radius) + self.offset;
+            d.min((x - V::from_vec3(s.center)).length().to_f64() - r.to_f64())
+        })
+    }
+
     /// A free particle at `x` (start of substep `x_prev`) projected out of the ground, then out
     /// of each sphere; `None` when no collider moved it (always where [`Colliders::clear`]).
     pub fn project(&self, mut x: V, x_prev: V) -> Option<V> {

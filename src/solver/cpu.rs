@@ -22,6 +22,7 @@ use super::{Method, Particles, Settings};
 mod choice;
 mod plan;
 mod pool;
+mod project;
 mod team;
 mod team_time;
 
@@ -65,8 +66,14 @@ pub struct EnergyLedger {
     pub dissipated: f64,
     /// `H₀` carried to the next substep by the global balance (J).
     pub carried: Option<f64>,
-    /// The last global velocity scale `σ`.
+    /// The last global velocity scale `σ`, or the projection's last scale `s`.
     pub last_scale: f64,
+    /// The projection's energy budget `H*` after the last frame (J, heights from the rest centre
+    /// of mass; [`super::projection`]); `None` while the projection is off.
+    pub budget: Option<f64>,
+    /// The linear (kg·m/s) and angular momentum about the origin (kg·m²/s) the projection keeps
+    /// for an isolated body, taken with the budget ([`projection::conserved_momenta`]).
+    pub momenta: Option<(glam::DVec3, glam::DVec3)>,
 }
 
 /// Read-only context of the local mode for one family.
@@ -173,6 +180,7 @@ impl<V: Vector> CpuSolver<V> {
         if s.energy_aware != EnergyAware::Global {
             self.ledger.carried = None;
         }
+        let project = self.before_projection(s);
         // The frame runs on a worker of the solver's own pool, whose threads sweep the large
         // groups as a team (a pool of its own: a team waits at spin barriers, which must not meet
         // unrelated work on a shared pool).
@@ -189,6 +197,20 @@ impl<V: Vector> CpuSolver<V> {
             },
         }
         self.last = Some(k);
+        if let Some(before) = project {
+            self.after_frame(before);
+        }
+    }
+
+    /// Kinetic + gravitational (from the rest centre of mass) + the elastic energy the
+    /// constraint forces of the last substep hold ([`metrics::ElasticAccount::held`]; all of it
+    /// before the first step) (J).
+    pub fn held_energy(&self) -> f64 {
+        let p = &self.particles;
+        let elastic = metrics::elastic_account(&self.scene, &p.x, self.lambdas(), self.last.as_ref()).held();
+        metrics::kinetic(&p.v, &p.w)
+            + metrics::gravitational_about(self.scene.gravity, self.rest_com, &p.x, &p.w)
+            + elastic
     }
 
     /// Builds the families' [`FamilyState::lanes`] on first use (offsets for positions of the size

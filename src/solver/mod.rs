@@ -10,6 +10,9 @@
 //! 5. `v = (x − x_prev) / h`, then `v ← v (1 − β_v h)`;
 //! 6. with `--energy-aware global`, the energy balance of [`energy`] scales the velocities.
 //!
+//! With `--energy-aware project`, the energy-momentum projection of [`projection`] follows the
+//! frame's last substep.
+//!
 //! Where the order allows it, passes over the particles share one visit of each particle, with
 //! the same bits as the passes one after the other: the last iteration's contact projection, the
 //! final contact pass and the velocity update, and (outside the global balance) the next
@@ -21,6 +24,7 @@ mod cpu;
 pub mod energy;
 pub mod jacobi;
 mod particles;
+pub mod projection;
 mod shared;
 mod xpbd;
 

@@ -34,6 +34,10 @@ pub fn set_particle(sim: &mut Simulation, queue: &wgpu::Queue, i: u32, x: Vec3, 
             p.x_prev[i] = x.into();
             p.v[i] = Vec3A::ZERO;
             p.w[i] = w;
+            // A hand that moves a particle does work no energy budget counts: the global
+            // balance and the projection take theirs again from the state it leaves.
+            c.ledger.carried = None;
+            c.ledger.budget = None;
         }
         Simulation::Gpu(g) => {
             queue.write_buffer(&g.x, (i * 16) as u64, bytemuck::bytes_of(&Vec4::from((x, w))));

@@ -14,11 +14,14 @@ pub struct Sample {
     pub frame: u32,
     /// Kinetic energy (J).
     pub kinetic: f64,
-    /// Elastic energy (J).
+    /// Elastic energy the constraint forces hold (J).
     pub elastic: f64,
+    /// The iterate's elastic energy that no constraint force holds (J): unresolved stretch,
+    /// not part of the total.
+    pub unresolved: f64,
     /// Gravitational energy, heights from the ground (J).
     pub gravitational: f64,
-    /// Kinetic + gravitational + elastic (J).
+    /// Kinetic + gravitational + held elastic (J).
     pub total: f64,
     /// RMS of the XPBD residual `|C + α̃λ|`.
     pub residual: f64,
@@ -30,6 +33,7 @@ impl From<&FrameStats> for Sample {
             frame: s.frame,
             kinetic: s.kinetic,
             elastic: s.elastic,
+            unresolved: s.unresolved,
             gravitational: s.gravitational,
             total: s.total(),
             residual: s.residual_rms,

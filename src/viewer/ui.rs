@@ -2,7 +2,7 @@
 //! plots on the right.
 
 use egui::{ComboBox, RichText, Slider, Ui};
-use egui_plot::{Legend, Line, Plot};
+use egui_plot::{Legend, Line, LineStyle, Plot};
 
 use super::plots::History;
 use super::session::{SceneInfo, Timings};
@@ -186,11 +186,12 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
     if s.method == Method::Jacobi {
         ui.add(Slider::new(&mut s.jacobi_omega, 0.1..=1.9).text("Jacobi ω"));
     }
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label("Energy-aware");
         ui.radio_value(&mut s.energy_aware, EnergyAware::Off, "off");
         ui.radio_value(&mut s.energy_aware, EnergyAware::Local, "local");
-        ui.radio_value(&mut s.energy_aware, EnergyAware::Global, "global (on)");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Global, "global");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Project, "project (on; CPU)");
     });
     ui.add(Slider::new(&mut s.sor, 0.1..=1.9).text("SOR ω"));
     ui.horizontal(|ui| {
@@ -274,6 +275,7 @@ pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
             row("Stretch", format!("{:.2}% mean, {:.2}% max", 100.0 * s.stretch_mean, 100.0 * s.stretch_max));
             row("Kinetic", format!("{:.4e} J", s.kinetic));
             row("Elastic", format!("{:.4e} J", s.elastic));
+            row("Unresolved", format!("{:.4e} J (not in total)", s.unresolved));
             row("Gravity", format!("{:+.4e} J", s.gravitational));
             row("Total", format!("{:+.4e} J", s.total()));
         }
@@ -285,14 +287,19 @@ pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
     ui.separator();
     ui.label(RichText::new("Energy (J)").strong());
     let h = v.history;
-    Plot::new("energy").height(170.0).legend(Legend::default()).allow_scroll(false).show(ui, |p| {
+    Plot::new("energy").height(130.0).legend(Legend::default()).allow_scroll(false).show(ui, |p| {
         p.line(Line::new("kinetic", h.series(|s| s.kinetic)));
-        p.line(Line::new("elastic", h.series(|s| s.elastic)));
+        p.line(Line::new("elastic (held)", h.series(|s| s.elastic)));
         p.line(Line::new("gravity", h.series(|s| s.gravitational)));
         p.line(Line::new("total", h.series(|s| s.total)));
     });
+    // Often far larger than the energies: a plot of its own, so theirs keeps its scale.
+    ui.label(RichText::new("Unresolved stretch (J; not energy, not in the total)").strong());
+    Plot::new("unresolved").height(70.0).allow_scroll(false).show(ui, |p| {
+        p.line(Line::new("unresolved", h.series(|s| s.unresolved)).style(LineStyle::dashed_dense()));
+    });
     ui.label(RichText::new("log₁₀ residual (rms)").strong());
-    Plot::new("residual").height(120.0).allow_scroll(false).show(ui, |p| {
+    Plot::new("residual").height(90.0).allow_scroll(false).show(ui, |p| {
         p.line(Line::new("residual", h.series(|s| s.residual.max(1e-30).log10())));
     });
 }
