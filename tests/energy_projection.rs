@@ -75,6 +75,8 @@ fn the_free_cloth_keeps_both_momenta_and_its_energy() {
         let (scale_p, scale_l) = momentum_scales(&p.x, &p.v, &p.w);
         assert!((p1 - p0).length() <= 1e-4 * scale_p, "frame {frame}: P {p0} -> {p1} (scale {scale_p:.3e})");
         assert!((l1 - l0).length() <= 1e-4 * scale_l, "frame {frame}: L {l0} -> {l1} (scale {scale_l:.3e})");
+        let e = sv.held_energy();
+        assert!((e - budget).abs() <= 0.02 * budget, "frame {frame}: {e:.5} J against a budget of {budget:.5} J");
     }
     let end = sv.held_energy();
     println!("free cloth: budget {budget:.5} J, after 10 s {end:.5} J");
@@ -173,4 +175,21 @@ fn a_cloth_dropped_on_a_sphere_settles_and_never_gains() {
     );
     assert!(peak <= 1.001 * start, "the honest total rose from {start:.4} J to {peak:.4} J");
     assert!(end.kinetic < 0.01, "still moving after 5 s: {:.3e} J", end.kinetic);
+}
+
+#[test]
+fn new_settings_start_the_budget_again() {
+    let mut sv = hanging_cloth();
+    for _ in 0..60 {
+        sv.step_frame(&settings(10, 3, EnergyAware::Project));
+    }
+    let before = sv.ledger.budget.unwrap();
+    // The same settings on more threads keep the budget; other substeps start it again after
+    // the frame, from the energy measured with the new multipliers.
+    sv.step_frame(&Settings { threads: 2, ..settings(10, 3, EnergyAware::Project) });
+    assert_eq!(sv.ledger.budget, Some(before));
+    sv.step_frame(&settings(30, 1, EnergyAware::Project));
+    assert_eq!(sv.ledger.budget, Some(sv.held_energy()));
+    sv.step_frame(&settings(30, 1, EnergyAware::Off));
+    assert_eq!(sv.ledger.budget, None);
 }

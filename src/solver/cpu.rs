@@ -74,6 +74,8 @@ pub struct EnergyLedger {
     /// The linear (kg·m/s) and angular momentum about the origin (kg·m²/s) the projection keeps
     /// for an isolated body, taken with the budget ([`projection::conserved_momenta`]).
     pub momenta: Option<(glam::DVec3, glam::DVec3)>,
+    /// The settings of the last projected frame (threads left out).
+    pub projected_with: Option<Settings>,
 }
 
 /// Read-only context of the local mode for one family.

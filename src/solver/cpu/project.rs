@@ -24,11 +24,18 @@ impl<V: Vector> CpuSolver<V> {
     pub(super) fn before_projection(&mut self, s: &Settings) -> Option<BeforeFrame> {
         if s.energy_aware != EnergyAware::Project {
             self.ledger.budget = None;
+            self.ledger.projected_with = None;
             return None;
         }
-        if self.ledger.budget.is_none() && self.last.is_some() {
+        // Other settings measure the held energy with other multipliers: start again after the
+        // frame (the thread count changes nothing).
+        let settings = Settings { threads: 0, ..*s };
+        if self.ledger.projected_with.is_some_and(|p| p != settings) {
+            self.ledger.budget = None;
+        } else if self.ledger.budget.is_none() && self.last.is_some() {
             self.start_budget();
         }
+        self.ledger.projected_with = Some(settings);
         let p = &self.particles;
         Some(BeforeFrame {
             budget: self.ledger.budget,
