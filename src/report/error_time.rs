@@ -62,9 +62,9 @@ impl Variant {
     }
 
     /// Every variant of the full study, in the order of tables and legends.
-    pub const ALL: [Variant; 10] = {
+    pub const ALL: [Variant; 11] = {
         use Backend::{Cpu, Gpu};
-        use EnergyAware::{Global, Local, Off};
+        use EnergyAware::{Global, Local, Off, Project};
         use Form::{Compliant, Energy};
         use Method::{GaussSeidel as Gs, Jacobi};
         [
@@ -72,6 +72,7 @@ impl Variant {
             Variant::new(Cpu, Gs, Compliant, Off, SOR_OMEGA),
             Variant::new(Cpu, Gs, Compliant, Local, 1.0),
             Variant::new(Cpu, Gs, Compliant, Global, 1.0),
+            Variant::new(Cpu, Gs, Compliant, Project, 1.0),
             Variant::new(Cpu, Jacobi, Compliant, Off, 1.0),
             Variant::new(Cpu, Gs, Energy, Off, 1.0),
             Variant::new(Cpu, Gs, Energy, Local, 1.0),
