@@ -66,19 +66,62 @@ pub type Lambdas<'a, S> = [&'a [S]; crate::scene::FAMILY_COUNT];
 /// RMS and maximum of the XPBD residual `|C_j + α̃ λ_j|` over every constraint of `scene`,
 /// with the multipliers `λ` of a substep run with constants `k`.
 pub fn residual<V: Vector>(scene: &Scene, x: &[V], lambdas: Lambdas<'_, V::S>, k: &StepConstants<V::S>) -> (f64, f64) {
-    let (mut sq, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
-    let mut add = |r: V::S| {
-        let r = r.to_f64();
-        sq += r * r;
-        max = max.max(r);
-        n += 1;
-    };
+    constraint_pass(scene, x, lambdas, k, false).residual()
+}
+
+/// What one visit of every constraint measures: the XPBD residuals' sums and, when asked, the
+/// [`ElasticAccount`].
+#[derive(Clone, Copy, Debug, Default)]
+struct ConstraintPass {
+    /// `Σⱼ rⱼ²`, `maxⱼ rⱼ` and the count of the residuals `rⱼ = |Cⱼ + α̃ⱼλⱼ|`.
+    squares: f64,
+    max: f64,
+    count: usize,
+    account: ElasticAccount,
+}
+
+impl ConstraintPass {
+    /// RMS and maximum of the residual (`(0, 0)` without constraints).
+    fn residual(&self) -> (f64, f64) {
+        if self.count == 0 { (0.0, 0.0) } else { ((self.squares / self.count as f64).sqrt(), self.max) }
+    }
+}
+
+/// Visits every constraint once at `x` with the multipliers `λ` of a substep run with constants
+/// `k`: its residual `|C + α̃λ|` and, with `energy`, its share of the [`ElasticAccount`].
+fn constraint_pass<V: Vector>(
+    scene: &Scene,
+    x: &[V],
+    lambdas: Lambdas<'_, V::S>,
+    k: &StepConstants<V::S>,
+    energy: bool,
+) -> ConstraintPass {
+    let mut out = ConstraintPass::default();
     crate::for_each_family!(scene, |i, f| {
         for (e, &l) in f.elements.iter().zip(lambdas[i]) {
-            add(crate::solver::residual(e, &f.params, x, l, k));
+            let xs = gather(x, e.particles());
+            let proj = e.constraint(&f.params, &xs, k.form, k.energy_compliance);
+            let r = (proj.c + proj.alpha * k.inv_h2 * l).abs().to_f64();
+            out.squares += r * r;
+            out.max = out.max.max(r);
+            out.count += 1;
+            if energy {
+                let energy = e.energy(&f.params, &xs).to_f64();
+                let (c_val, alpha, l, inv_h2) = (proj.c.to_f64(), proj.alpha.to_f64(), l.to_f64(), k.inv_h2.to_f64());
+                let held = match k.form {
+                    // An infinitely stiff constraint (α = 0) has no deformation of its own to hold.
+                    crate::constraints::Form::Compliant if c_val != 0.0 && alpha > 0.0 => {
+                        (alpha * inv_h2 * l / c_val).powi(2)
+                    }
+                    crate::constraints::Form::Compliant => 1.0,
+                    crate::constraints::Form::Energy => (l * inv_h2).powi(2),
+                };
+                out.account.material += energy;
+                out.account.unresolved += energy * (1.0 - held).max(0.0);
+            }
         }
     });
-    if n == 0 { (0.0, 0.0) } else { ((sq / n as f64).sqrt(), max) }
+    out
 }
 
 /// Total material energy of every constraint family of `scene` at `x` (J).
@@ -129,29 +172,10 @@ pub fn elastic_account<V: Vector>(
     lambdas: Lambdas<'_, V::S>,
     k: Option<&StepConstants<V::S>>,
 ) -> ElasticAccount {
-    let Some(k) = k else {
-        return ElasticAccount { material: elastic_energy(scene, x), unresolved: 0.0 };
-    };
-    let mut acc = ElasticAccount::default();
-    crate::for_each_family!(scene, |i, f| {
-        for (e, &l) in f.elements.iter().zip(lambdas[i]) {
-            let xs = gather(x, e.particles());
-            let energy = e.energy(&f.params, &xs).to_f64();
-            let proj = e.constraint(&f.params, &xs, k.form, k.energy_compliance);
-            let (c_val, alpha, l, inv_h2) = (proj.c.to_f64(), proj.alpha.to_f64(), l.to_f64(), k.inv_h2.to_f64());
-            let held = match k.form {
-                // An infinitely stiff constraint (α = 0) has no deformation of its own to hold.
-                crate::constraints::Form::Compliant if c_val != 0.0 && alpha > 0.0 => {
-                    (alpha * inv_h2 * l / c_val).powi(2)
-                }
-                crate::constraints::Form::Compliant => 1.0,
-                crate::constraints::Form::Energy => (l * inv_h2).powi(2),
-            };
-            acc.material += energy;
-            acc.unresolved += energy * (1.0 - held).max(0.0);
-        }
-    });
-    acc
+    match k {
+        Some(k) => constraint_pass(scene, x, lambdas, k, true).account,
+        None => ElasticAccount { material: elastic_energy(scene, x), unresolved: 0.0 },
+    }
 }
 
 /// A simulation state to measure: positions, velocities, inverse masses, and the multipliers
@@ -244,9 +268,15 @@ impl FrameStats {
 
     /// Measures any backend's state of `scene`.
     pub fn of_state<V: Vector>(scene: &Scene, s: &StateView<'_, V>, frame: u32, time_ms: f64) -> Self {
-        let (residual_rms, residual_max) = s.constants.map_or((0.0, 0.0), |k| residual(scene, s.x, s.lambdas, k));
+        // One visit of every constraint gives both the residual and the account.
+        let ((residual_rms, residual_max), account) = match s.constants {
+            Some(k) => {
+                let pass = constraint_pass(scene, s.x, s.lambdas, k, true);
+                (pass.residual(), pass.account)
+            }
+            None => ((0.0, 0.0), elastic_account(scene, s.x, s.lambdas, None)),
+        };
         let (stretch_mean, stretch_max) = stretch(&scene.edges, &scene.edge_rest, s.x);
-        let account = elastic_account(scene, s.x, s.lambdas, s.constants);
         FrameStats {
             frame,
             time_ms,
