@@ -238,7 +238,7 @@ pub struct FrameStats {
     /// and left out of [`FrameStats::total`].
     pub unresolved: f64,
     /// Work of physical dissipation since the start (J, ≤ 0 for losses): velocity damping and
-    /// the final contact pass. `total − dissipated` is what an exact integrator would conserve.
+    /// every contact pass, in the loop and the final one. `total − dissipated` is what an exact integrator would conserve.
     pub dissipated: f64,
 }
 

@@ -193,3 +193,25 @@ fn new_settings_start_the_budget_again() {
     sv.step_frame(&settings(30, 1, EnergyAware::Off));
     assert_eq!(sv.ledger.budget, None);
 }
+
+#[test]
+fn the_dropped_bunny_loses_what_its_contacts_take() {
+    // Every contact pass counts its work (in the loop and the final one), so after the landing
+    // the energy the projection leaves is the start less that work, and never more than the start.
+    let opts = SceneOptions { lattice: Some(8), ..SceneOptions::default() };
+    let mut sv = solver("bunny", opts);
+    let s = settings(3, 10, EnergyAware::Project);
+    sv.step_frame(&s);
+    let first = FrameStats::measure(&sv, 1, 0.0);
+    let mut peak = f64::MIN;
+    for frame in 2..=150 {
+        sv.step_frame(&s);
+        peak = peak.max(FrameStats::measure(&sv, frame, 0.0).total());
+    }
+    let last = FrameStats::measure(&sv, 150, 0.0);
+    let (lost, work) = (first.total() - last.total(), first.dissipated - last.dissipated);
+    println!("bunny: start {:.4} J, peak {peak:.4} J, lost {lost:.4} J, contact work {work:.4} J", first.total());
+    assert!(work > 0.1 * first.total(), "the landing did contact work: {work:.4} J");
+    assert!(peak <= 1.05 * first.total(), "the honest total rose to {peak:.4} J from {:.4} J", first.total());
+    assert!((lost - work).abs() <= 0.05 * work, "lost {lost:.4} J against {work:.4} J of contact work");
+}

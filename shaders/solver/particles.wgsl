@@ -42,10 +42,12 @@ fn friction(p: vec3<f32>, prev: vec3<f32>, n: vec3<f32>, depth: f32, mu: f32) ->
     return p - t * (limit / tl);
 }
 
-fn project_contacts(i: u32) {
+// Projects particle i out of the colliders; returns the pass's work (J; mirrors Colliders::work:
+// ½ m (after − before)/h · (v_start + v_a), v_start = v − g h, v_a = (after − x_prev)/h).
+fn project_contacts(i: u32) -> f32 {
     let p = x[i];
     if (p.w <= 0.0) {
-        return;
+        return 0.0;
     }
     var q = p.xyz;
     let prev = x_prev[i].xyz;
@@ -70,35 +72,40 @@ fn project_contacts(i: u32) {
         }
     }
     x[i] = vec4<f32>(q, p.w);
+    let m = 1.0 / p.w;
+    let v_start = v[i].xyz - params.gravity.xyz * params.h;
+    let va = (q - prev) * params.inv_h;
+    return 0.5 * m * dot((q - p.xyz) * params.inv_h, v_start + va);
 }
 
 @compute @workgroup_size(64)
 fn contacts(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
-        project_contacts(i);
+        let work = project_contacts(i);
+        if (work != 0.0) {
+            v[i].w += work;
+        }
     }
 }
 
-// The last iteration's contact pass (with in_loop_contacts; not counted), the final contact pass,
-// then v = (x − x_prev)/h · keep; the kinetic energy the final pass and the damping changed is
-// added to the particle's dissipated work (mirrors particles::finish on the CPU).
+// The last iteration's contact pass (with in_loop_contacts), the final contact pass, then
+// v = (x − x_prev)/h · keep; the passes' work and the kinetic energy the damping takes are added
+// to the particle's dissipated work (mirrors particles::finish on the CPU).
 @compute @workgroup_size(64)
 fn finish(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+        var work = 0.0;
         if (params.in_loop_contacts != 0u) {
-            project_contacts(i);
+            work += project_contacts(i);
         }
-        let before = x[i].xyz;
-        project_contacts(i);
+        work += project_contacts(i);
         let p = x[i];
         let old = v[i];
         if (p.w > 0.0) {
             let prev = x_prev[i].xyz;
             let m = 1.0 / p.w;
-            let vb = (before - prev) * params.inv_h;
             let va = (p.xyz - prev) * params.inv_h;
-            let va2 = dot(va, va);
-            let work = 0.5 * m * (va2 - dot(vb, vb)) + 0.5 * m * va2 * (params.keep * params.keep - 1.0);
+            work += 0.5 * m * dot(va, va) * (params.keep * params.keep - 1.0);
             v[i] = vec4<f32>((p.xyz - prev) * (params.inv_h * params.keep), old.w + work);
         } else {
             v[i] = vec4<f32>(0.0, 0.0, 0.0, old.w);

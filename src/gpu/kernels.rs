@@ -28,7 +28,8 @@ pub struct Kernels {
     pub energy_layout: wgpu::BindGroupLayout,
     /// `predict`.
     pub predict: wgpu::ComputePipeline,
-    /// `contacts` (inside the iteration loop, all but the last iteration).
+    /// `contacts` (inside the iteration loop, all but the last iteration), its work added to
+    /// each particle's dissipated work.
     pub contacts: wgpu::ComputePipeline,
     /// `finish`: the last iteration's contact pass, the final contact pass and the velocity
     /// update.

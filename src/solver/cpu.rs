@@ -11,7 +11,7 @@ use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 
-use super::contacts::project_contacts;
+use super::contacts::project_range;
 use super::energy::{EnergyAware, global_scale, local_constraint};
 use super::jacobi;
 use super::particles::{self, FinishStep};
@@ -61,8 +61,9 @@ struct LocalState<V> {
 /// Energy bookkeeping (SPEC §4 and §7), in `f64`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
-    /// Work of physical dissipation since the start (J, ≤ 0): velocity damping and the final
-    /// contact pass of every substep.
+    /// Work of physical dissipation since the start (J, ≤ 0 for losses): velocity damping and
+    /// every contact pass of every substep, in the loop and the final one
+    /// (`solver::contacts::Colliders::work`).
     pub dissipated: f64,
     /// `H₀` carried to the next substep by the global balance (J).
     pub carried: Option<f64>,
@@ -303,6 +304,7 @@ impl<V: Vector> CpuSolver<V> {
         if !predicted {
             self.predict(k.h);
         }
+        self.work_blocks.fill(0.0);
         for st in &mut self.fam {
             st.lambda.fill(V::S::zero());
         }
@@ -330,7 +332,9 @@ impl<V: Vector> CpuSolver<V> {
                 Method::Jacobi => self.jacobi_iteration(k, local),
             }
             if s.contacts_in_loop(iteration) {
-                project_contacts(&self.scene, &mut self.particles);
+                let p = &mut self.particles;
+                let inv_h = (V::S::one() / k.h).to_f64();
+                project_range(&self.scene, &mut p.x, &p.x_prev, &p.v, &p.w, inv_h, &mut self.work_blocks);
             }
         }
         let next = predict_next.then(|| V::from_vec3(self.scene.gravity));
@@ -371,7 +375,8 @@ impl<V: Vector> CpuSolver<V> {
 
     /// The final contact pass and the velocity update ([`particles::finish`], with the last
     /// iteration's contact pass and the next substep's prediction as `step` says); returns the
-    /// work of physical dissipation `W` (J, ≤ 0 for losses), summed block by block.
+    /// substep's work of physical dissipation `W` (J, ≤ 0 for losses: the in-loop contact
+    /// passes' and its own), summed block by block.
     fn finish(&mut self, step: FinishStep<V>) -> f64 {
         let p = &mut self.particles;
         particles::finish(&self.scene, &mut p.x, &mut p.x_prev, &mut p.v, &p.w, step, &mut self.work_blocks);

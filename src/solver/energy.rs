@@ -12,8 +12,8 @@
 //! `|r| ≤ C`; compliant form `C̃ = sign(C) √(C² + 2αr)` when `|r| ≤ C²/(2α)`; otherwise `C`.
 //!
 //! **`global`**: after the substep, with `H₀` the kinetic + gravitational + elastic
-//! energy at its start, `W` the work of physical dissipation in it (velocity damping and the
-//! final contact pass), `K₁` and `P₁` the kinetic and potential energy after it:
+//! energy at its start, `W` the work of physical dissipation in it (velocity damping and every
+//! contact pass, `solver::contacts`), `K₁` and `P₁` the kinetic and potential energy after it:
 //! `σ = clamp(√(max(H₀ + W − P₁, 0) / K₁), 1 − ε, 1 + ε)`, `ε = 0.1`, and `v ← σ v`. The next
 //! substep starts from `H₀ = σ² K₁ + P₁`. `σ = 1` when `K₁ < 10⁻⁶ |H₀|` or when
 //! `|H₀ + W − P₁ − K₁|` is within rounding of the sums, so a body at rest does not jitter.

@@ -102,15 +102,15 @@ pub(crate) struct FinishStep<V: Vector> {
     pub next: Option<V>,
     /// The last iteration's in-loop contact pass is made here, just before the final one: the
     /// sweeps before it are over, so each particle's projection is the same as in a pass of its
-    /// own (and, as there, not counted as work).
+    /// own; its work is counted with the final pass's, particle by particle.
     pub in_loop_contacts: bool,
 }
 
 /// The final contact pass and the velocity update over a range of particles that starts at a
-/// block boundary: `v = (x − x_prev)/h · keep` with `keep = max(1 − β_v h, 0)`. Writes, per
-/// [`WORK_BLOCK`] particles, the work of physical dissipation (J, ≤ 0 for losses): the kinetic
-/// energy the final contact pass and the damping changed, with velocities `(x − x_prev)/h` before
-/// and after that pass. With `next = Some(g)` each particle then takes the next substep's
+/// block boundary: `v = (x − x_prev)/h · keep` with `keep = max(1 − β_v h, 0)`. Adds, per
+/// [`WORK_BLOCK`] particles, the work of physical dissipation (J, ≤ 0 for losses): the contact
+/// passes' ([`Colliders::work`]) and the damping's, the kinetic energy it takes from the
+/// velocities `(x − x_prev)/h` after the final pass. With `next = Some(g)` each particle then takes the next substep's
 /// [`predict`] under gravity `g` (m/s²) in the same visit, and with `in_loop_contacts` the last
 /// iteration's contact pass comes first in that visit: the same bits as the passes one after the
 /// other, with one sweep over the particles instead of three.
@@ -132,13 +132,12 @@ pub(crate) fn finish<V: Vector>(
     for (b, sum) in work.iter_mut().enumerate() {
         let r = (b * WORK_BLOCK).min(x.len())..((b + 1) * WORK_BLOCK).min(x.len());
         let (x, x_prev, v, w) = (&mut x[r.clone()], &mut x_prev[r.clone()], &mut v[r.clone()], &w[r]);
-        *sum = 0.0;
         for (((x, x_prev_slot), v), &w) in x.iter_mut().zip(x_prev).zip(v).zip(w) {
             let x_prev = *x_prev_slot;
             if w > V::S::zero() {
                 // Nothing to project and no damping: nothing to do but the velocity.
                 if damped || !settle.colliders.clear(*x) {
-                    settle.particle(x, x_prev, w, sum);
+                    settle.particle(x, x_prev, *v, w, sum);
                 }
                 *v = (*x - x_prev) * scale;
             } else {
@@ -163,28 +162,30 @@ struct Settle<'a, V: Vector> {
 }
 
 impl<V: Vector> Settle<'_, V> {
-    /// Projects the free particle at `x` (mass `1/w`, start of substep `x_prev`): with
+    /// Projects the free particle at `x` (mass `1/w`, start of substep `x_prev`, velocity from
+    /// the prediction `v`): with
     /// `in_loop_contacts` the in-loop projection, then the final one of what it left (a particle
     /// the first left alone the second leaves too: the same function of the same positions).
-    /// Adds to `sum` the work (J) of the final pass and of the damping, with velocities
-    /// `(x − x_prev)/h` before and after the final pass.
+    /// Adds to `sum` the work (J) of both passes ([`Colliders::work`]) and of the damping.
     #[inline(never)]
-    fn particle(&self, x: &mut V, x_prev: V, w: V::S, sum: &mut f64) {
+    fn particle(&self, x: &mut V, x_prev: V, v: V, w: V::S, sum: &mut f64) {
+        let m = 1.0 / w.to_f64();
         let first = self.colliders.project(*x, x_prev);
         let (before, last) = match first {
-            Some(p) if self.in_loop_contacts => (p, self.colliders.project(p, x_prev)),
+            Some(p) if self.in_loop_contacts => {
+                *sum += self.colliders.work(m, x_prev, v, *x, p, self.inv_h);
+                (p, self.colliders.project(p, x_prev))
+            }
             _ => (*x, first),
         };
         *x = last.unwrap_or(before);
-        // Both terms vanish (exactly) for a particle the final pass left alone without damping.
-        if last.is_none() && !self.damped {
-            return;
+        if last.is_some() {
+            *sum += self.colliders.work(m, x_prev, v, before, *x, self.inv_h);
         }
-        let m = 1.0 / w.to_f64();
-        let vb = (before.to_dvec3() - x_prev.to_dvec3()) * self.inv_h;
-        let va = (x.to_dvec3() - x_prev.to_dvec3()) * self.inv_h;
-        *sum += 0.5 * m * (va.length_squared() - vb.length_squared());
-        *sum += 0.5 * m * va.length_squared() * (self.keep * self.keep - 1.0);
+        if self.damped {
+            let va = (x.to_dvec3() - x_prev.to_dvec3()) * self.inv_h;
+            *sum += 0.5 * m * va.length_squared() * (self.keep * self.keep - 1.0);
+        }
     }
 }
 
@@ -196,7 +197,7 @@ mod tests {
 
     /// The finish pass that makes the last iteration's contact pass and the next prediction gives
     /// the same bits as the three passes, for free and pinned particles, with particles inside
-    /// the sphere and the ground and with damping.
+    /// the sphere and the ground and with damping, and the same work up to the order of its sum.
     #[test]
     fn finish_with_the_contacts_and_the_next_prediction_is_the_three_passes() {
         let scene = build("cloth-sphere", &SceneOptions { resolution: Some(12), ..SceneOptions::default() }).unwrap();
@@ -216,7 +217,7 @@ mod tests {
         let mut c = a.clone();
         let blocks = n.div_ceil(WORK_BLOCK);
         let (mut work_a, mut work_b) = (vec![0.0; blocks], vec![0.0; blocks]);
-        crate::solver::contacts::project_contacts(&scene, &mut a);
+        crate::solver::contacts::project_range(&scene, &mut a.x, &a.x_prev, &a.v, &a.w, (1.0 / h) as f64, &mut work_a);
         let alone = FinishStep { h, damping, next: None, in_loop_contacts: false };
         finish(&scene, &mut a.x, &mut a.x_prev, &mut a.v, &a.w, alone, &mut work_a);
         predict(&mut a.x, &mut a.x_prev, &mut a.v, &a.w, g, h);
@@ -227,18 +228,18 @@ mod tests {
             all.flat_map(|v| v.to_array().map(f32::to_bits)).collect::<Vec<_>>()
         };
         assert_eq!(bits(&a), bits(&b));
-        assert_eq!(
-            work_a.iter().map(|w| w.to_bits()).collect::<Vec<_>>(),
-            work_b.iter().map(|w| w.to_bits()).collect::<Vec<_>>()
-        );
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (a.abs() + b.abs());
+        // The fused pass adds the in-loop and the final work particle by particle.
+        assert!(work_a.iter().zip(&work_b).all(|(a, b)| close(*a, *b)), "{work_a:?} against {work_b:?}");
         assert!(work_a.iter().any(|&w| w != 0.0), "the contacts and the damping did work: {work_a:?}");
         assert_ne!(bits(&a), bits(&start), "the passes changed the state");
-        // Without the in-loop pass the final one meets the penetrations and counts what they
-        // change of the kinetic energy.
+        // Without the in-loop pass the final one meets the penetrations and counts nearly the
+        // same work (a particle pushed out of the ground into the sphere and back differs).
         let mut work_c = vec![0.0; blocks];
         let no_loop = FinishStep { h, damping, next: Some(g), in_loop_contacts: false };
         finish(&scene, &mut c.x, &mut c.x_prev, &mut c.v, &c.w, no_loop, &mut work_c);
         let (with, without) = (work_b.iter().sum::<f64>(), work_c.iter().sum::<f64>());
-        assert!((without - with).abs() > 1e-3, "the final pass alone counts more: {without} against {with}");
+        assert!((without - with).abs() <= 1e-3 * with.abs(), "the final pass alone: {without} against {with}");
+        assert!(with.abs() > 1e-3, "the contacts did work: {with}");
     }
 }

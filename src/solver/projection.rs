@@ -11,8 +11,10 @@
 //!   forces hold, and a body that starts deformed beyond what the solve can hold, like
 //!   `cloth-free`, would otherwise be driven towards energy no step can carry) and is then
 //!   carried from frame to frame, plus the work of physical dissipation of each frame `W`
-//!   (velocity damping and the final contact passes, ≤ 0): `H*ₙ₊₁ = H*ₙ + Wₙ`. The work of
-//!   gravity is part of `G`; pinned particles do none (they do not move).
+//!   (velocity damping and every contact pass, in the loop and the final one, ≤ 0 for losses:
+//!   `solver::contacts::Colliders::work`): `H*ₙ₊₁ = H*ₙ + Wₙ`, so an impact dissipates
+//!   what its contact took and a body at rest on a collider keeps its budget. The work of gravity
+//!   is part of `G`; pinned particles do none (they do not move).
 //! - **Momenta**: with nothing pinned, the free particles' velocities split into the rigid motion
 //!   with the same momenta, `v_rigid,i = V + ω × (xᵢ − c)` (`c` the centre of mass, `V = P / M`,
 //!   `ω = I_c⁻¹ L_c`), and the deformation `v_def = v − v_rigid`, which carries neither linear nor
@@ -24,10 +26,6 @@
 //!   to first order in a spinning body); any other keeps the momenta its step produced. With a
 //!   pinned particle the pins exert forces and no momentum is kept: the whole velocity is scaled,
 //!   `v' = s v`, `s² = K' / K`.
-//! - **Contacts**: the in-loop contact passes do work that is not counted yet (only the final
-//!   pass's is), so after a frame that starts or ends with a particle near a ground or a sphere
-//!   ([`touching`]) the budget follows every loss (`H* ← min(H*, H)`) and the projection only
-//!   takes gains away.
 //! - **Bounds**: `K' = K + (H* − H)`; `s` stays within `[1 − ε, 1 + ε]` per frame (`ε` =
 //!   [`PROJECTION_EPSILON`]: at most twice the velocity) and the rest of the gap stays in the
 //!   budget for later frames, so a turning point (little kinetic energy to scale) does not throw
@@ -238,23 +236,6 @@ pub fn apply_scale<V: Vector>(x: &[V], v: &mut [V], w: &[V::S], rigid: Option<&R
             *v = V::new(V::S::from_f64(out.x), V::S::from_f64(out.y), V::S::from_f64(out.z));
         }
     }
-}
-
-/// Distance from a contact surface within which a particle counts as touching it (m).
-pub const TOUCH_TOLERANCE: f64 = 1e-2;
-
-/// `true` when a free particle at `x` is within [`TOUCH_TOLERANCE`] of a contact surface. The
-/// projection asks it at the start and the end of a frame: a position-based contact is
-/// inelastic, so a particle that hit during the frame ends on the surface. The contact
-/// projections inside the iterations do work that the budget does not count yet (only the final
-/// pass's is), so after a frame near a collider the projection lowers the budget to every loss
-/// and only takes gains away.
-pub fn touching<V: Vector>(scene: &crate::scene::Scene, x: &[V], w: &[V::S]) -> bool {
-    if scene.ground.is_none() && scene.spheres.is_empty() {
-        return false;
-    }
-    let colliders = super::contacts::Colliders::<V>::new(scene);
-    x.iter().zip(w).any(|(x, w)| *w > V::S::zero() && colliders.distance(*x) <= TOUCH_TOLERANCE)
 }
 
 /// `true` when some particle is pinned (inverse mass 0): the projection then keeps no momentum.

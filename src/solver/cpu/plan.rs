@@ -51,8 +51,9 @@ pub(super) enum FamilyPlan {
 pub(super) struct Plan {
     pub threads: usize,
     pub families: [FamilyPlan; FAMILY_COUNT],
-    /// The contact pass's parts (`[t]`: thread `t`'s block of particles), when the scene has
-    /// colliders.
+    /// The contact pass's parts (`[t]`: thread `t`'s block of particles, its boundary aligned to
+    /// whole [`WORK_BLOCK`]s, so that each block's sum of work is made in one visit), when the
+    /// scene has colliders.
     pub contacts: Option<Vec<Part>>,
     /// The finish pass's parts (`[t]`: thread `t`'s block of particles, its boundary aligned to
     /// whole [`WORK_BLOCK`]s), for substeps chained without a barrier (`cpu/team.rs`).
@@ -123,9 +124,10 @@ impl Plan {
                 })
                 .collect()
         };
+        // The contact pass's parts in whole blocks too: each block's sum of work in one visit.
         let contacts = contacts.then(|| {
             steps += 1;
-            particle_parts(1)
+            particle_parts(WORK_BLOCK)
         });
         let finish = particle_parts(WORK_BLOCK);
         Plan { threads, families, contacts, finish, steps, progress: Progress::new(threads) }

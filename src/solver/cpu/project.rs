@@ -14,8 +14,6 @@ pub(super) struct BeforeFrame {
     budget: Option<f64>,
     /// The work of physical dissipation until then (J).
     dissipated: f64,
-    /// A free particle was near a collider ([`projection::touching`]).
-    touching: bool,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -36,31 +34,21 @@ impl<V: Vector> CpuSolver<V> {
             self.start_budget();
         }
         self.ledger.projected_with = Some(settings);
-        let p = &self.particles;
-        Some(BeforeFrame {
-            budget: self.ledger.budget,
-            dissipated: self.ledger.dissipated,
-            touching: projection::touching(&self.scene, &p.x, &p.w),
-        })
+        Some(BeforeFrame { budget: self.ledger.budget, dissipated: self.ledger.dissipated })
     }
 
     /// After a frame: the projection towards the budget plus the frame's dissipated work, or the
     /// budget's start after the first step.
     pub(super) fn after_frame(&mut self, before: BeforeFrame) {
         match before.budget {
-            Some(budget) => self.project(budget + (self.ledger.dissipated - before.dissipated), before.touching),
+            Some(budget) => self.project(budget + (self.ledger.dissipated - before.dissipated)),
             None => self.start_budget(),
         }
     }
 
     /// The energy-momentum projection ([`super::projection`]) towards the budget `budget` (J).
-    fn project(&mut self, budget: f64, touched: bool) {
+    fn project(&mut self, budget: f64) {
         let held = self.held_energy();
-        // The in-loop contact passes do work the budget does not count yet: after a frame near a
-        // collider a loss may be an impact's, so the projection only takes gains away.
-        let p = &self.particles;
-        let touching = touched || projection::touching(&self.scene, &p.x, &p.w);
-        let budget = if touching { budget.min(held) } else { budget };
         let p = &mut self.particles;
         let rigid = match projection::any_pinned(&p.w) {
             true => None,

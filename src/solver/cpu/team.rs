@@ -119,9 +119,10 @@ impl<V: Vector> CpuSolver<V> {
         if local {
             crate::for_each_family!(scene, |i, f| self.fam[i].energy_start.resize(f.len(), V::S::zero()));
         }
-        // The finish pass's work per block of particles, one row per substep: thread 0 adds the
-        // rows in the one-thread order once no thread writes them any more.
+        // The contact and finish passes' work per block of particles, one row per substep: thread
+        // 0 adds the rows in the one-thread order once no thread writes them any more.
         let blocks = n.div_ceil(WORK_BLOCK);
+        self.team_work.clear();
         self.team_work.resize(blocks * s.substeps as usize, 0.0);
         let p = &mut self.particles;
         let w = &p.w[..];
@@ -160,6 +161,12 @@ impl<V: Vector> CpuSolver<V> {
         // groups, so a thread that is ahead goes on into the next substep ([`Plan::finish`]).
         // The local mode's snapshots and Jacobi's corrections read every thread's particles.
         let chained = fuse && !local && !jacobi;
+        let inv_h = (V::S::one() / k.h).to_f64();
+        // The blocks of substep `substep`'s row of work that hold the particles `r` (whole blocks).
+        let work_blocks = |substep: usize, r: Range<usize>| {
+            let row = substep * blocks;
+            row + r.start / WORK_BLOCK..row + r.end.div_ceil(WORK_BLOCK)
+        };
         let totals = rayon::broadcast(|ctx| {
             let start = Instant::now();
             let me = Member {
@@ -242,7 +249,17 @@ impl<V: Vector> CpuSolver<V> {
                         }
                         if s.contacts_in_loop(iteration) {
                             let x_prev = &v.x_prev.read_all()[mine.clone()];
-                            project_range(scene, v.x.range_mut(mine.clone()), x_prev, &w[mine.clone()]);
+                            let work = v.work.range_mut(work_blocks(substep, mine.clone()));
+                            let vel = &*v.v.range_mut(mine.clone());
+                            project_range(
+                                scene,
+                                v.x.range_mut(mine.clone()),
+                                x_prev,
+                                vel,
+                                &w[mine.clone()],
+                                inv_h,
+                                work,
+                            );
                             me.meet();
                         }
                         continue;
@@ -257,7 +274,9 @@ impl<V: Vector> CpuSolver<V> {
                     if let Some(parts) = plan.contacts.as_ref().filter(|_| s.contacts_in_loop(iteration)) {
                         let x_prev = v.x_prev.read_all();
                         me.step(&parts[me.t], &mut step, |r| {
-                            project_range(scene, v.x.range_mut(r.clone()), &x_prev[r.clone()], &w[r])
+                            let work = v.work.range_mut(work_blocks(substep, r.clone()));
+                            let (x, vel) = (v.x.range_mut(r.clone()), &*v.v.range_mut(r.clone()));
+                            project_range(scene, x, &x_prev[r.clone()], vel, &w[r], inv_h, work)
                         });
                     }
                 }
@@ -267,8 +286,7 @@ impl<V: Vector> CpuSolver<V> {
                 // The finish pass over the particles `r` (whole blocks), its work in this
                 // substep's row.
                 let mut finish = |r: Range<usize>| {
-                    let row = substep * blocks;
-                    let work = v.work.range_mut(row + r.start / WORK_BLOCK..row + r.end.div_ceil(WORK_BLOCK));
+                    let work = v.work.range_mut(work_blocks(substep, r.clone()));
                     let (x, x_prev, vel) =
                         (v.x.range_mut(r.clone()), v.x_prev.range_mut(r.clone()), v.v.range_mut(r.clone()));
                     particles::finish(scene, x, x_prev, vel, &w[r], finishing, work);
