@@ -8,7 +8,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, GpuSolver, Kernels};
 use crate::metrics::FrameStats;
 use crate::scene::Scene;
-use crate::solver::{CpuSolver, EnergyAware, Settings};
+use crate::solver::{CpuSolver, Settings};
 
 /// Where the solver runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -30,21 +30,6 @@ impl Backend {
             Backend::Cpu => "cpu",
             Backend::Gpu => "gpu",
         }
-    }
-}
-
-impl Backend {
-    /// Refuses settings this backend does not run: the energy-momentum projection
-    /// (`--energy-aware project`) runs on the CPU only so far.
-    pub fn check(self, s: &Settings) -> Result<()> {
-        if self == Backend::Gpu && s.energy_aware == EnergyAware::Project {
-            return Err(Error::param(
-                "--energy-aware",
-                "project",
-                "runs on the CPU backend only so far (--backend cpu)",
-            ));
-        }
-        Ok(())
     }
 }
 

@@ -1,10 +1,9 @@
 //! The energy-momentum projection (`--energy-aware project`) on the CPU: the honest energy held
 //! to its budget on the hanging cloth, momenta and energy of the free cloth, a body at rest, the
-//! thread count, and the GPU backend's refusal.
+//! thread count, the contacts' work (the GPU's projection: `tests/gpu_projection.rs`).
 
 use eapbd::metrics::FrameStats;
 use eapbd::scene::{self, SceneOptions};
-use eapbd::simulation::Backend;
 use eapbd::solver::projection::{momenta, momentum_scales};
 use eapbd::solver::{CpuSolver, EnergyAware, Settings};
 use glam::Vec3A;
@@ -119,15 +118,6 @@ fn the_projection_gives_the_same_bits_on_any_thread_count() {
         sv.particles.x.clone()
     };
     assert_eq!(run(1), run(2));
-}
-
-#[test]
-fn the_gpu_backend_refuses_the_projection_by_name() {
-    let s = settings(3, 10, EnergyAware::Project);
-    let e = Backend::Gpu.check(&s).unwrap_err().to_string();
-    assert!(e.contains("--energy-aware") && e.contains("CPU"), "{e}");
-    assert!(Backend::Cpu.check(&s).is_ok());
-    assert!(Backend::Gpu.check(&settings(3, 10, EnergyAware::Global)).is_ok());
 }
 
 #[test]

@@ -85,12 +85,12 @@ fn dissipated_work_is_unchanged() {
 
 #[cfg(not(target_feature = "fma"))]
 const DISSIPATED: [(u64, u64); 6] = [
-    (0xbfe91aa8f081f619, 0x11757e7ed7f2fa74),
-    (0xbfe91aa8f081f619, 0x11757e7ed7f2fa74),
-    (0xbfdf7566a9460eca, 0xb336b7209f4b5226),
-    (0xbfdf7566a9460eca, 0xb336b7209f4b5226),
-    (0xbfeccddc949720fb, 0xf35d2a2bad4f04d9),
-    (0xbfeccddc949720fb, 0xf35d2a2bad4f04d9),
+    (0xc00ab7f7f2e724d4, 0x11757e7ed7f2fa74),
+    (0xc00ab7f7f2e724d4, 0x11757e7ed7f2fa74),
+    (0xbff25cab6ef6eb1d, 0xdcf251f25615e910),
+    (0xbff25cab6ef6eb1d, 0xdcf251f25615e910),
+    (0xc012e6405a1480f7, 0xf35d2a2bad4f04d9),
+    (0xc012e6405a1480f7, 0xf35d2a2bad4f04d9),
 ];
 
 #[cfg(target_feature = "fma")]

@@ -44,19 +44,21 @@ fn gpu_structs_match_their_wgsl_sizes() {
     assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 208);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Tet>(), 64);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Membrane>(), 32);
-    assert_eq!(std::mem::size_of::<eapbd::gpu::GpuLedger>(), 32);
+    assert_eq!(std::mem::size_of::<eapbd::gpu::GpuLedger>(), 48);
+    assert_eq!(std::mem::size_of::<eapbd::gpu::GpuProjection>(), 128);
     assert_eq!(std::mem::size_of::<eapbd::gpu::DispatchRange>(), 16);
     assert_eq!(std::mem::size_of::<eapbd::gpu::GpuSphere>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Spring>(), 16);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Bend>(), 24);
-    for source in [shaders::SPRINGS, shaders::BENDING, shaders::TETS, shaders::MEMBRANES] {
+    for source in [shaders::SPRINGS, shaders::BENDING, shaders::TETS, shaders::MEMBRANES, shaders::PARTICLES] {
         let module = naga::front::wgsl::parse_str(source).unwrap();
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).unwrap();
         for (handle, ty) in module.types.iter() {
             let expected = match ty.name.as_deref() {
                 Some("SimParams") => 208,
-                Some("Ledger") => 32,
+                Some("Ledger") => 48,
+                Some("Projection") => 128,
                 Some("DispatchRange") => 16,
                 Some("Sphere") => 32,
                 Some("Spring") => 16,

@@ -183,7 +183,7 @@ fn local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
 }
 
-// Partial sums of the family's material energy.
+// Partial sums of the family's material energy (z) and of the part its multipliers hold (w).
 @compute @workgroup_size(64)
 fn energy(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -191,12 +191,15 @@ fn energy(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) ng: vec3<u32>,
 ) {
-    var acc = 0.0;
+    var acc = vec2<f32>(0.0);
     for (var t = gid.x; t < range.count; t += stride(ng)) {
         let j = range.start + t;
-        acc += element_energy(j, positions_of(gather_live(j)));
+        let p = positions_of(gather_live(j));
+        let e = element_energy(j, p);
+        let pr = element_project(j, p);
+        acc += vec2<f32>(e, e * held_share(pr.c, pr.alpha, lambda[j]));
     }
-    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc, 0.0));
+    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc.x, acc.y));
     if (lid.x == 0u) {
         partials[PARTIAL_FAMILY + wid.x] = total;
     }

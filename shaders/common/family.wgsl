@@ -22,3 +22,16 @@ fn local_kinetic(i: u32, p: vec4<f32>) -> f32 {
     let prev = snapshots[params.num_particles + i].xyz;
     return (dot(p.xyz - cur, p.xyz - cur) - dot(cur - prev, cur - prev)) / p.w;
 }
+
+// The share of an element's material energy that its multiplier λ holds, min(1, ρ²) (mirrors
+// metrics::constraint_pass): ρ = |α̃λ/C| in the compliant form (1 where C = 0 or α = 0), |λ|/h²
+// in the energy form.
+fn held_share(c: f32, alpha: f32, l: f32) -> f32 {
+    var rho = 1.0;
+    if (params.form == FORM_ENERGY) {
+        rho = l * params.inv_h2;
+    } else if (c != 0.0 && alpha > 0.0) {
+        rho = alpha * params.inv_h2 * l / c;
+    }
+    return min(1.0, rho * rho);
+}

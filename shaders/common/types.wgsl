@@ -72,24 +72,55 @@ struct Ledger {
     valid: u32,
     sigma: f32,
     work_mark: f32,
-    // The last measurement: kinetic, gravitational (about the rest centre of mass), elastic,
-    // and cumulative dissipated work (J).
+    // The last measurement: kinetic, gravitational (about the rest centre of mass), elastic
+    // (the iterate's material energy), and cumulative dissipated work (J).
     kinetic: f32,
     gravitational: f32,
     elastic: f32,
     work: f32,
+    // The part of the elastic energy the multipliers hold (J; metrics::ElasticAccount::held).
+    held: f32,
+    pad0: f32,
+    pad1: f32,
+    pad2: f32,
 }
 
-// Slots of the reduction's per-workgroup partial sums (x kinetic, y gravitational, z elastic,
-// w work): particles, springs, bending, tetrahedra, membranes; at most REDUCE_GROUPS workgroups each. Keep
-// PARTIAL_SLOTS in sync with src/gpu/kernels.rs.
+// The energy-momentum projection's state (mirrors solver::projection and solver::cpu::project).
+struct Projection {
+    // The free particles' rigid motion now: centre of mass c (xyz, m; w: total mass M, kg, 0 when
+    // a particle is pinned and no rigid motion is kept), velocity V (xyz, m/s), angular velocity
+    // ω (xyz, rad/s).
+    centre: vec4<f32>,
+    velocity: vec4<f32>,
+    omega: vec4<f32>,
+    // The rigid motion the projection gives (xyz; target_velocity.w: its kinetic energy, J).
+    target_velocity: vec4<f32>,
+    target_omega: vec4<f32>,
+    // The momenta an isolated body keeps, P (kg·m/s) and L about the origin (kg·m²/s);
+    // momenta_p.w: 1 when they are kept.
+    momenta_p: vec4<f32>,
+    momenta_l: vec4<f32>,
+    // The budget H* (J), the cumulative dissipated work when it was last carried (J), the last
+    // scale s, and 1 once the budget is set.
+    budget: f32,
+    work_mark: f32,
+    scale: f32,
+    has_budget: u32,
+}
+
+// Slots of the reduction's per-workgroup partial sums (particles: x kinetic, y gravitational,
+// w work; families: z material energy, w held energy): particles, springs, bending, tetrahedra,
+// membranes; at most REDUCE_GROUPS workgroups each; then the projection's five moment sums per
+// workgroup (PARTIAL_MOMENTS + q REDUCE_GROUPS + workgroup). Keep PARTIAL_SLOTS in sync with
+// src/gpu/kernels.rs.
 const REDUCE_GROUPS: u32 = 256u;
 const PARTIAL_PARTICLES: u32 = 0u;
 const PARTIAL_SPRINGS: u32 = 256u;
 const PARTIAL_BENDS: u32 = 512u;
 const PARTIAL_TETS: u32 = 768u;
 const PARTIAL_MEMBRANES: u32 = 1024u;
-const PARTIAL_SLOTS: u32 = 1280u;
+const PARTIAL_MOMENTS: u32 = 1280u;
+const PARTIAL_SLOTS: u32 = 2560u;
 
 // One dispatch's slice of a family (a color group, or all of it for Jacobi), bound with a
 // dynamic offset. slot_base: first Jacobi correction slot of the family.
@@ -173,6 +204,8 @@ fn local_constraint(c: f32, alpha: f32, r: f32) -> f32 {
 var<workgroup> scratch: array<vec4<f32>, 64>;
 
 fn reduce_workgroup(lid: u32, value: vec4<f32>) -> vec4<f32> {
+    // A reduction before this one may still be reading scratch[0].
+    workgroupBarrier();
     scratch[lid] = value;
     workgroupBarrier();
     for (var s = 32u; s > 0u; s = s >> 1u) {

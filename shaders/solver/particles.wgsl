@@ -178,45 +178,48 @@ fn global_scale(h0: f32, work: f32, k1: f32, p1: f32) -> f32 {
 // start of the next substep, 1 runs the global balance, 2 only measures.
 @compute @workgroup_size(64)
 fn energy_final(@builtin(local_invocation_id) lid: vec3<u32>) {
-    var acc = vec4<f32>(0.0);
+    var particles = vec4<f32>(0.0);
+    var families = vec4<f32>(0.0);
     let np = reduce_count(params.num_particles);
     let ns = reduce_count(params.num_springs);
     let nb = reduce_count(params.num_bends);
     for (var k = lid.x; k < np; k += 64u) {
-        acc += partials[PARTIAL_PARTICLES + k];
+        particles += partials[PARTIAL_PARTICLES + k];
     }
     for (var k = lid.x; k < ns; k += 64u) {
-        acc += partials[PARTIAL_SPRINGS + k];
+        families += partials[PARTIAL_SPRINGS + k];
     }
     for (var k = lid.x; k < nb; k += 64u) {
-        acc += partials[PARTIAL_BENDS + k];
+        families += partials[PARTIAL_BENDS + k];
     }
     let nt = reduce_count(params.num_tets);
     for (var k = lid.x; k < nt; k += 64u) {
-        acc += partials[PARTIAL_TETS + k];
+        families += partials[PARTIAL_TETS + k];
     }
     let nm = reduce_count(params.num_membranes);
     for (var k = lid.x; k < nm; k += 64u) {
-        acc += partials[PARTIAL_MEMBRANES + k];
+        families += partials[PARTIAL_MEMBRANES + k];
     }
-    let total = reduce_workgroup(lid.x, acc);
+    let tp = reduce_workgroup(lid.x, particles);
+    let tf = reduce_workgroup(lid.x, families);
     if (lid.x == 0u) {
-        let k1 = total.x;
-        let p1 = total.y + total.z;
+        let k1 = tp.x;
+        let p1 = tp.y + tf.z;
         ledger.kinetic = k1;
-        ledger.gravitational = total.y;
-        ledger.elastic = total.z;
-        ledger.work = total.w;
+        ledger.gravitational = tp.y;
+        ledger.elastic = tf.z;
+        ledger.held = tf.w;
+        ledger.work = tp.w;
         if (range.start == 0u) {
             ledger.h0 = k1 + p1;
             ledger.valid = 1u;
             ledger.sigma = 1.0;
-            ledger.work_mark = total.w;
+            ledger.work_mark = tp.w;
         } else if (range.start == 1u) {
-            let sigma = global_scale(ledger.h0, total.w - ledger.work_mark, k1, p1);
+            let sigma = global_scale(ledger.h0, tp.w - ledger.work_mark, k1, p1);
             ledger.sigma = sigma;
             ledger.h0 = sigma * sigma * k1 + p1;
-            ledger.work_mark = total.w;
+            ledger.work_mark = tp.w;
         }
     }
 }

@@ -192,7 +192,7 @@ fn local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
     }
 }
 
-// Partial sums of the springs' material energy.
+// Partial sums of the springs' material energy (z) and of the part their multipliers hold (w).
 @compute @workgroup_size(64)
 fn energy(
     @builtin(global_invocation_id) gid: vec3<u32>,
@@ -200,12 +200,17 @@ fn energy(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(num_workgroups) ng: vec3<u32>,
 ) {
-    var acc = 0.0;
+    var acc = vec2<f32>(0.0);
     for (var t = gid.x; t < range.count; t += stride(ng)) {
-        let s = springs[range.start + t];
-        acc += spring_energy(s, x[s.a].xyz, x[s.b].xyz);
+        let j = range.start + t;
+        let s = springs[j];
+        let xa = x[s.a].xyz;
+        let xb = x[s.b].xyz;
+        let e = spring_energy(s, xa, xb);
+        let p = spring_constraint(s, xa, xb);
+        acc += vec2<f32>(e, e * held_share(p.c, p.alpha, lambda[j]));
     }
-    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc, 0.0));
+    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc.x, acc.y));
     if (lid.x == 0u) {
         partials[PARTIAL_SPRINGS + wid.x] = total;
     }

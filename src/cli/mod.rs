@@ -173,7 +173,7 @@ pub struct SceneArgs {
     pub energy_compliance: f32,
     /// Energy-aware Gauss-Seidel: off, local (the paper's per-constraint reading), global (one
     /// balance of the iterate's energy per substep) or project (the energy-momentum projection
-    /// of the honest energy after every frame, CPU only so far; "on" means project).
+    /// of the honest energy after every frame; "on" means project).
     #[arg(long, default_value = "off", value_parser = named::<EnergyAware>)]
     pub energy_aware: EnergyAware,
     /// Successive over-relaxation ω (every Δλ times ω; 1 = plain, 1.5 is the usual baseline).

@@ -41,7 +41,6 @@ pub struct RenderArgs {
 pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     anyhow::ensure!(a.every > 0, "--every must be at least 1");
     let settings = a.scene.settings()?;
-    a.backend.check(&settings)?;
     let scene = a.scene.build_scene()?;
     let ctx = GpuContext::new()?;
     let kernels = Arc::new(Kernels::new(&ctx.device));

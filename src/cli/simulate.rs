@@ -49,7 +49,6 @@ pub struct SimulateArgs {
 /// Runs the command.
 pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     let settings = a.scene.settings()?;
-    a.backend.check(&settings)?;
     let scene = a.scene.build_scene()?;
     let gpu = match a.backend {
         Backend::Gpu => {

@@ -40,7 +40,6 @@ pub struct ViewArgs {
 /// Runs the command.
 pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
     let settings = a.scene.settings()?;
-    a.backend.check(&settings)?;
     let options = a.scene.scene_options()?;
     // Refuse bad options here, with the flag's name, rather than in the window.
     eapbd::scene::build(&a.scene.scene, &options)?;

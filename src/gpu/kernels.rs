@@ -24,7 +24,7 @@ pub struct Kernels {
     pub local_particles_layout: wgpu::BindGroupLayout,
     /// Group 3 of the per-family local-mode kernels: snapshots, start energies.
     pub local_family_layout: wgpu::BindGroupLayout,
-    /// Group 3 of the energy kernels: partial sums, ledger.
+    /// Group 3 of the energy kernels: partial sums, ledger, the projection's state.
     pub energy_layout: wgpu::BindGroupLayout,
     /// `predict`.
     pub predict: wgpu::ComputePipeline,
@@ -107,6 +107,16 @@ pub struct EnergyKernels {
     pub total: wgpu::ComputePipeline,
     /// `v ← σ v`.
     pub apply_scale: wgpu::ComputePipeline,
+    /// The projection's per-workgroup mass moments.
+    pub projection_moments: wgpu::ComputePipeline,
+    /// The projection's rigid motions (one workgroup).
+    pub projection_rigid: wgpu::ComputePipeline,
+    /// The projection's per-workgroup kinetic energy to scale.
+    pub projection_deform: wgpu::ComputePipeline,
+    /// The projection's budget and scale (one workgroup).
+    pub projection_scale: wgpu::ComputePipeline,
+    /// The projection's velocity update.
+    pub projection_apply: wgpu::ComputePipeline,
 }
 
 /// The kernels of a constraint family.
@@ -215,7 +225,8 @@ impl Kernels {
         let range_layout = layout(device, "range", &[uniform(0, true)]);
         let local_particles_layout = layout(device, "local-particles", &[storage_entry(0, false)]);
         let local_family_layout = layout(device, "local-family", &[storage_entry(0, true), storage_entry(1, false)]);
-        let energy_layout = layout(device, "energy", &[storage_entry(2, false), storage_entry(3, false)]);
+        let energy_layout =
+            layout(device, "energy", &[storage_entry(2, false), storage_entry(3, false), storage_entry(4, false)]);
 
         let particles_module = shader_module(device, "particles", shaders::PARTICLES);
         let p = Some(&particles_layout);
@@ -256,7 +267,11 @@ impl Kernels {
         self.energy.get_or_init(|| {
             let p = Some(&self.particles_layout);
             let e = Some(&self.energy_layout);
+            let r = Some(&self.range_layout);
             let m = &self.particles_module;
+            let make = |entry: &str, groups: &[Option<&wgpu::BindGroupLayout>]| {
+                pipeline(&self.device, m, entry, entry, groups)
+            };
             EnergyKernels {
                 particles: pipeline(&self.device, m, "energy_particles", "energy_particles", &[p, None, None, e]),
                 total: pipeline(
@@ -267,6 +282,11 @@ impl Kernels {
                     &[p, None, Some(&self.range_layout), e],
                 ),
                 apply_scale: pipeline(&self.device, m, "apply_scale", "apply_scale", &[p, None, None, e]),
+                projection_moments: make("projection_moments", &[p, None, None, e]),
+                projection_rigid: make("projection_rigid", &[p, None, r, e]),
+                projection_deform: make("projection_deform", &[p, None, None, e]),
+                projection_scale: make("projection_scale", &[p, None, r, e]),
+                projection_apply: make("projection_apply", &[p, None, None, e]),
             }
         })
     }
@@ -311,7 +331,7 @@ pub(crate) fn groups(count: u32) -> u32 {
 }
 
 /// Partial-sum slots of the energy reduction (`PARTIAL_SLOTS` in `shaders/common/types.wgsl`).
-pub(crate) const PARTIAL_SLOTS: usize = 1280;
+pub(crate) const PARTIAL_SLOTS: usize = 2560;
 
 /// Workgroups of an energy reduction over `count` items (at most 256 partial sums each; keep in
 /// sync with `REDUCE_GROUPS` in `shaders/common/types.wgsl`).

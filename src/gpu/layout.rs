@@ -118,9 +118,44 @@ pub struct GpuLedger {
     pub elastic: f32,
     /// Cumulative dissipated work (J).
     pub work: f32,
+    /// Last measured elastic energy that the multipliers hold (J).
+    pub held: f32,
+    /// Padding to 16 bytes.
+    pub pad: [f32; 3],
 }
 
-const _: () = assert!(std::mem::size_of::<GpuLedger>() == 32);
+const _: () = assert!(std::mem::size_of::<GpuLedger>() == 48);
+
+/// The energy-momentum projection's state (`Projection` in WGSL; `shaders/solver/projection.wgsl`).
+/// Positions are relative to the rest centre of mass `r₀`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct GpuProjection {
+    /// Centre of mass less `r₀` (xyz, m); w: total mass (kg), 0 when no rigid motion is kept.
+    pub centre: [f32; 4],
+    /// Velocity of the centre of mass (xyz, m/s).
+    pub velocity: [f32; 4],
+    /// Angular velocity (xyz, rad/s).
+    pub omega: [f32; 4],
+    /// The rigid motion's velocity the projection gives (xyz, m/s); w: its kinetic energy (J).
+    pub target_velocity: [f32; 4],
+    /// The rigid motion's angular velocity the projection gives (xyz, rad/s).
+    pub target_omega: [f32; 4],
+    /// Linear momentum an isolated body keeps (xyz, kg·m/s); w: 1 when kept.
+    pub momenta_p: [f32; 4],
+    /// Angular momentum about `r₀` an isolated body keeps (xyz, kg·m²/s).
+    pub momenta_l: [f32; 4],
+    /// The budget `H*` (J).
+    pub budget: f32,
+    /// Cumulative dissipated work when the budget was last carried (J).
+    pub work_mark: f32,
+    /// The last scale `s`.
+    pub scale: f32,
+    /// 1 once the budget is set.
+    pub has_budget: u32,
+}
+
+const _: () = assert!(std::mem::size_of::<GpuProjection>() == 128);
 
 impl SimParams {
     /// The constants of `scene` under `s`, with the same `f32` arithmetic as the CPU solver.

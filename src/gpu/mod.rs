@@ -12,7 +12,7 @@ mod solver;
 
 pub use context::GpuContext;
 pub use kernels::{Kernels, shader_module, storage_entry};
-pub use layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
+pub use layout::{DispatchRange, GpuLedger, GpuProjection, GpuSphere, SimParams};
 pub use memory::GpuMemory;
 pub use readback::{map_and_copy, read_buffer};
 pub use solver::{GpuEnergies, GpuSolver, GpuState};

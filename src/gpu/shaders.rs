@@ -31,9 +31,13 @@ pub const MEMBRANES: &str = concat!(
     include_str!("../../shaders/solver/membranes.wgsl"),
     include_str!("../../shaders/common/element.wgsl")
 );
-/// Per-particle kernels: predict, contacts, finish, Jacobi apply.
-pub const PARTICLES: &str =
-    concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/particles.wgsl"));
+/// Per-particle kernels: predict, contacts, finish, Jacobi apply, the energy reduction and the
+/// energy-momentum projection.
+pub const PARTICLES: &str = concat!(
+    include_str!("../../shaders/common/types.wgsl"),
+    include_str!("../../shaders/solver/particles.wgsl"),
+    include_str!("../../shaders/solver/projection.wgsl")
+);
 /// Vertex normals for drawing.
 pub const NORMALS: &str = include_str!("../../shaders/render/normals.wgsl");
 /// An embedded surface's vertices from the particles.

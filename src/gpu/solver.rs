@@ -6,7 +6,7 @@ use glam::{Vec3, Vec4};
 use wgpu::util::DeviceExt;
 
 use super::kernels::{FamilyKernels, FamilyKind, Kernels, PARTIAL_SLOTS, groups, reduce_groups};
-use super::layout::{DispatchRange, GpuLedger, GpuSphere, SimParams};
+use super::layout::{DispatchRange, GpuLedger, GpuProjection, GpuSphere, SimParams};
 use super::memory::GpuMemory;
 use super::readback::read_buffer;
 use crate::constraints::Element;
@@ -39,10 +39,14 @@ struct GpuFamily {
     local: Option<wgpu::BindGroup>,
 }
 
-/// Buffers of the energy reduction (allocated when first needed).
+mod projection;
+
+/// Buffers of the energy reduction and the projection (allocated when first needed).
 #[derive(Debug)]
 struct EnergyBuffers {
     ledger: wgpu::Buffer,
+    /// The projection's state ([`GpuProjection`]).
+    projection: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
 }
 
@@ -56,6 +60,8 @@ pub struct GpuEnergies {
     /// The iterate's material energy, held and unresolved alike (the CPU's
     /// [`FrameStats::material`]).
     pub elastic: f64,
+    /// The part of it the multipliers hold (the CPU's [`FrameStats::elastic`]).
+    pub held: f64,
     /// Work of physical dissipation since the start.
     pub dissipated: f64,
     /// The last global velocity scale `σ`.
@@ -120,6 +126,10 @@ pub struct GpuSolver {
     local: Option<wgpu::BindGroup>,
     /// Whether the ledger holds the energy at the start of the next substep.
     ledger_valid: bool,
+    /// The settings (thread count aside) the projection's budget was carried under, and whether
+    /// the budget is set on the GPU.
+    projected_with: Option<Settings>,
+    budget_set: bool,
     /// Offsets of the range entries selecting the final reduction's mode (init, balance, measure).
     total_offsets: [u32; 3],
     /// Constant from the balance's gravitational reference to the ground's (J).
@@ -272,6 +282,8 @@ impl GpuSolver {
             energy: None,
             local: None,
             ledger_valid: false,
+            projected_with: None,
+            budget_set: false,
             total_offsets,
             gravity_shift,
             last: None,
@@ -315,6 +327,7 @@ impl GpuSolver {
     /// Records one frame of `settings.dt` into `encoder` (one compute pass, no read-back).
     /// Call [`Settings::validate`] first.
     pub fn encode_frame(&mut self, encoder: &mut wgpu::CommandEncoder, s: &Settings) {
+        let projection = self.plan_projection(s);
         if self.last.as_ref() != Some(s) {
             self.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&SimParams::new(&self.scene, s)));
             self.last = Some(*s);
@@ -324,8 +337,10 @@ impl GpuSolver {
         }
         let global = s.energy_aware == EnergyAware::Global;
         let local = s.energy_aware == EnergyAware::Local;
-        if global {
+        if global || projection.is_some() {
             self.prepare_energy();
+        }
+        if global {
         } else {
             self.ledger_valid = false;
         }
@@ -342,6 +357,11 @@ impl GpuSolver {
         pass.set_bind_group(0, &self.particles_bind_group, &[]);
         if init_ledger {
             self.encode_energy(&mut pass, &families, 0);
+        }
+        if let Some(p) = projection
+            && p.start_before
+        {
+            self.encode_projection(&mut pass, &families, true);
         }
         let local_groups = self.local.as_ref().filter(|_| local);
         for _ in 0..s.substeps {
@@ -428,6 +448,9 @@ impl GpuSolver {
                 pass.dispatch_workgroups(particle_groups, 1, 1);
             }
         }
+        if let Some(p) = projection {
+            self.encode_projection(&mut pass, &families, p.start_after);
+        }
     }
 
     /// Records the energy reduction; `mode` 0 sets the ledger's start energy, 1 runs the global
@@ -461,14 +484,25 @@ impl GpuSolver {
         }
         let partials =
             storage_buffer(&self.device, "energy partials", &[0u8; PARTIAL_SLOTS * 16], wgpu::BufferUsages::empty());
-        let ledger = storage_buffer(&self.device, "energy ledger", &[0u8; 32], wgpu::BufferUsages::empty());
-        self.memory.energy = partials.size() + ledger.size();
+        let ledger = storage_buffer(
+            &self.device,
+            "energy ledger",
+            &[0u8; std::mem::size_of::<GpuLedger>()],
+            wgpu::BufferUsages::empty(),
+        );
+        let projection = storage_buffer(
+            &self.device,
+            "projection",
+            &[0u8; std::mem::size_of::<GpuProjection>()],
+            wgpu::BufferUsages::empty(),
+        );
+        self.memory.energy = partials.size() + ledger.size() + projection.size();
         let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("energy"),
             layout: &self.kernels.energy_layout,
-            entries: &[entry(2, &partials), entry(3, &ledger)],
+            entries: &[entry(2, &partials), entry(3, &ledger), entry(4, &projection)],
         });
-        self.energy = Some(EnergyBuffers { ledger, bind_group });
+        self.energy = Some(EnergyBuffers { ledger, projection, bind_group });
     }
 
     /// Allocates the local mode's snapshots and start energies (once).
@@ -519,6 +553,7 @@ impl GpuSolver {
             kinetic: l.kinetic as f64,
             gravitational: l.gravitational as f64 + self.gravity_shift,
             elastic: l.elastic as f64,
+            held: l.held as f64,
             dissipated: l.work as f64,
             last_scale: l.sigma as f64,
         })
@@ -535,12 +570,13 @@ impl GpuSolver {
             EnergyAware::Off => 0,
             EnergyAware::Local => 1 + present + s.iterations.saturating_sub(1) as u64,
             EnergyAware::Global => present + 3,
-            // Not encoded on the GPU yet: `Settings::validate_for` refuses it there.
             EnergyAware::Project => 0,
         };
+        // The projection, once a frame: the energy reduction and its five stages.
+        let projection = if s.energy_aware == EnergyAware::Project { present + 7 } else { 0 };
         // The last iteration's contact pass runs in the finish kernel.
         let in_finish = s.contacts_in_finish() as u64;
-        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration - in_finish + energy)
+        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration - in_finish + energy) + projection
     }
 
     /// Records and submits one frame, without waiting.
@@ -656,7 +692,7 @@ impl GpuSolver {
         }
         let v4: Vec<Vec4> = v.iter().map(|v| v.extend(0.0)).collect();
         self.queue.write_buffer(&self.v, 0, bytemuck::cast_slice(&v4));
-        self.ledger_valid = false;
+        self.restart_budgets();
         Ok(())
     }
 

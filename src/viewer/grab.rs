@@ -41,6 +41,7 @@ pub fn set_particle(sim: &mut Simulation, queue: &wgpu::Queue, i: u32, x: Vec3, 
         }
         Simulation::Gpu(g) => {
             queue.write_buffer(&g.x, (i * 16) as u64, bytemuck::bytes_of(&Vec4::from((x, w))));
+            g.restart_budgets();
         }
     }
 }

@@ -288,7 +288,6 @@ impl ViewerState {
     /// The settings to run the next frame with, or the reason they are refused.
     pub fn frame_settings(&self) -> Result<Settings> {
         self.settings.validate()?;
-        self.backend.check(&self.settings)?;
         Ok(self.settings)
     }
 }

@@ -191,7 +191,7 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
         ui.radio_value(&mut s.energy_aware, EnergyAware::Off, "off");
         ui.radio_value(&mut s.energy_aware, EnergyAware::Local, "local");
         ui.radio_value(&mut s.energy_aware, EnergyAware::Global, "global");
-        ui.radio_value(&mut s.energy_aware, EnergyAware::Project, "project (on; CPU)");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Project, "project (on)");
     });
     ui.add(Slider::new(&mut s.sor, 0.1..=1.9).text("SOR ω"));
     ui.horizontal(|ui| {
