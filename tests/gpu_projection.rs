@@ -158,3 +158,29 @@ fn the_gpu_holds_what_the_cpu_holds() {
     assert!(account.unresolved > account.elastic, "the frame leaves stretch unresolved");
     assert!((reduced.held - account.elastic).abs() <= 0.01 * account.elastic, "{reduced:?} against {account:?}");
 }
+
+#[test]
+fn the_dropped_bunny_loses_what_its_contacts_take_on_the_gpu() {
+    let (ctx, kernels) = context();
+    let opts = SceneOptions { lattice: Some(8), ..SceneOptions::default() };
+    let mut gpu = gpu_solver(&ctx, &kernels, scene::build("bunny", &opts).unwrap());
+    let s = settings(3, 10, EnergyAware::Project);
+    gpu.step_frame(&s);
+    let first = measure(&gpu, 1);
+    let mut peak = f64::MIN;
+    for frame in 2..=150 {
+        gpu.step_frame(&s);
+        if frame % 10 == 0 {
+            peak = peak.max(measure(&gpu, frame).total());
+        }
+    }
+    let last = measure(&gpu, 150);
+    let (lost, work) = (first.total() - last.total(), first.dissipated - last.dissipated);
+    println!(
+        "bunny on the GPU: start {:.4} J, peak {peak:.4} J, lost {lost:.4} J, contact work {work:.4} J",
+        first.total()
+    );
+    assert!(work > 0.1 * first.total(), "the landing did contact work: {work:.4} J");
+    assert!(peak <= 1.05 * first.total(), "the honest total rose to {peak:.4} J from {:.4} J", first.total());
+    assert!((lost - work).abs() <= 0.05 * work, "lost {lost:.4} J against {work:.4} J of contact work");
+}
