@@ -98,7 +98,7 @@ pub struct Settings {
 
 /// Smallest color group (elements) that the CPU solver splits over threads; smaller groups run
 /// whole on one thread of the team while the others wait at the group's barrier (about 0.2 µs on
-/// two cores). Measured on two cores (`BENCHMARKS.md`): 128 beats 400 on the 29×29 and 41×41
+/// two cores). Measured on two cores when it was chosen: 128 beats 400 on the 29×29 and 41×41
 /// cloths (1.4× and 1.6× over one thread against 0.85× and 0.9×) and equals it on larger ones;
 /// 32 is no faster than 128.
 pub const PARALLEL_MIN_GROUP: usize = 128;

@@ -2,7 +2,7 @@
 //!
 //! On a virtual machine the host decides where the guest's cores run, and on the development
 //! machine it switches within minutes between giving two cores their full speed and a state in
-//! which two threads together do little more than one alone (BENCHMARKS.md, "What next"). The
+//! which two threads together do little more than one alone (BENCHMARKS.md, "The host check"). The
 //! team's two-core timings move with it, so the bench measures two things next to them: the peer
 //! scene at its most accurate split on one thread, alone and as two independent solvers at once,
 //! each pinned to its own core, in alternating rounds; and the round trip of a cache line between
@@ -158,7 +158,7 @@ pub fn line(before: Option<HostCheck>, after: Option<HostCheck>) -> String {
          did {:.2}× the work of one (frames {:.2} ms alone, {:.2} ms as a pair) and the round trip took {}; \
          after them {:.2}× ({:.2}, {:.2} ms) and {}. 2× is two full cores, 1× a pair that does what one \
          core does. In the host's slow minutes one core alone is slower too and the round trip is most often long, \
-         and the team, whose threads meet at every color group, loses more (BENCHMARKS.md, \"What next\").\n",
+         and the team, whose threads meet at every color group, loses more (BENCHMARKS.md, \"The host check\").\n",
         b.pair_speedup(),
         b.alone_ms,
         b.together_ms,
