@@ -1,4 +1,4 @@
-//! Two-step mesh coloring for race-free parallel Gauss-Seidel (SPEC §5).
+//! Two-step mesh coloring for race-free parallel Gauss-Seidel (docs/algorithm.md §5).
 //!
 //! The paper's step 1 lists, for each element, the elements that share no particle with it; step
 //! 2 builds groups from those lists so that no two elements of a group share a particle. The lists

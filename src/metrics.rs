@@ -1,4 +1,4 @@
-//! Error and energy measures (SPEC §7), accumulated in `f64`.
+//! Error and energy measures (docs/algorithm.md §7), accumulated in `f64`.
 
 use crate::constraints::{Element, gather};
 use crate::math::prelude::*;

@@ -1,5 +1,5 @@
 //! Anisotropic continuum cloth: the orthotropic St. Venant–Kirchhoff triangle (Bender et al.
-//! 2014; SPEC §3).
+//! 2014; docs/algorithm.md §3).
 //!
 //! Each triangle has a rest frame aligned with the cloth's warp (`u`) and weft (`v`) directions:
 //! `D_m = [X₁ − X₀, X₂ − X₀]` in material coordinates (m), `F = [x₁ − x₀, x₂ − x₀] D_m⁻¹` (3×2),

@@ -20,7 +20,7 @@ pub use simd::WIDTH as SIMD_WIDTH;
 pub use spring::{Spring, SpringMaterial, SpringParams};
 pub use tet::{Tet, TetParams};
 
-/// How a constraint is projected (SPEC §2).
+/// How a constraint is projected (docs/algorithm.md §2).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Form {
     /// Standard XPBD: a signed constraint `C` with `E = C² / (2α)`; stiffness keeps its physical

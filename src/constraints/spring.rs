@@ -1,4 +1,4 @@
-//! Springs between two particles: Hookean and St. Venant–Kirchhoff (SPEC §3, "2D").
+//! Springs between two particles: Hookean and St. Venant–Kirchhoff (docs/algorithm.md §3, "2D").
 //!
 //! With `d = x₂ − x₁` and rest length `l₀`:
 //! - Hookean: `E = ½ k (|d| − l₀)²`, `∇x₂ E = k (|d| − l₀) d/|d|`; compliant form

@@ -1,4 +1,4 @@
-//! Tetrahedral elements with the 3D elastic models of [`crate::material`] (SPEC §3).
+//! Tetrahedral elements with the 3D elastic models of [`crate::material`] (docs/algorithm.md §3).
 //!
 //! Particles `[x₀, x₁, x₂, x₃]`; `D_s = [x₁ − x₀, x₂ − x₀, x₃ − x₀]`, `F = D_s D_m⁻¹`, energy
 //! `E = V₀ Ψ(F)` (J), gradient `[∇x₁ ∇x₂ ∇x₃] = V₀ P(F) D_m⁻ᵀ`, `∇x₀ = −Σ`. Compliant form:

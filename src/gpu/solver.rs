@@ -39,41 +39,13 @@ struct GpuFamily {
     local: Option<wgpu::BindGroup>,
 }
 
+mod energy;
+mod jacobi_buffers;
 mod projection;
 
-/// Buffers of the energy reduction and the projection (allocated when first needed).
-#[derive(Debug)]
-struct EnergyBuffers {
-    ledger: wgpu::Buffer,
-    /// The projection's state ([`GpuProjection`]).
-    projection: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
-}
-
-/// Energies measured on the GPU by the reduction kernels (J).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GpuEnergies {
-    /// Kinetic energy.
-    pub kinetic: f64,
-    /// Gravitational energy, heights from the ground as in [`FrameStats`].
-    pub gravitational: f64,
-    /// The iterate's material energy, held and unresolved alike (the CPU's
-    /// [`FrameStats::material`]).
-    pub elastic: f64,
-    /// The part of it the multipliers hold (the CPU's [`FrameStats::elastic`]).
-    pub held: f64,
-    /// Work of physical dissipation since the start.
-    pub dissipated: f64,
-    /// The last global velocity scale `σ`.
-    pub last_scale: f64,
-}
-
-/// Jacobi's buffers, allocated on the first Jacobi frame.
-#[derive(Debug)]
-struct JacobiBuffers {
-    apply_bind_group: wgpu::BindGroup,
-    omega: f32,
-}
+use energy::EnergyBuffers;
+pub use energy::GpuEnergies;
+use jacobi_buffers::JacobiBuffers;
 
 /// State read back from the GPU.
 #[derive(Clone, Debug, Default)]
@@ -453,56 +425,9 @@ impl GpuSolver {
         }
     }
 
-    /// Records the energy reduction; `mode` 0 sets the ledger's start energy, 1 runs the global
-    /// balance, 2 only measures.
-    fn encode_energy(&self, pass: &mut wgpu::ComputePass<'_>, families: &[(&GpuFamily, &FamilyKernels)], mode: usize) {
-        let Some(e) = &self.energy else { return };
-        let k = self.kernels.energy();
-        pass.set_bind_group(3, &e.bind_group, &[]);
-        pass.set_pipeline(&k.particles);
-        pass.dispatch_workgroups(reduce_groups(self.n), 1, 1);
-        for (f, fk) in families {
-            pass.set_pipeline(&fk.energy);
-            pass.set_bind_group(1, &f.bind_group, &[]);
-            pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
-            pass.dispatch_workgroups(reduce_groups(f.len), 1, 1);
-        }
-        pass.set_pipeline(&k.total);
-        pass.set_bind_group(2, &self.range_bind_group, &[self.total_offsets[mode]]);
-        pass.dispatch_workgroups(1, 1, 1);
-    }
-
     /// The scene's families with their kernels.
     fn with_kernels(&self) -> Vec<(&GpuFamily, &FamilyKernels)> {
         self.families.iter().map(|f| (f, self.kernels.family(f.kind))).collect()
-    }
-
-    /// Allocates the reduction's buffers (once).
-    fn prepare_energy(&mut self) {
-        if self.energy.is_some() {
-            return;
-        }
-        let partials =
-            storage_buffer(&self.device, "energy partials", &[0u8; PARTIAL_SLOTS * 16], wgpu::BufferUsages::empty());
-        let ledger = storage_buffer(
-            &self.device,
-            "energy ledger",
-            &[0u8; std::mem::size_of::<GpuLedger>()],
-            wgpu::BufferUsages::empty(),
-        );
-        let projection = storage_buffer(
-            &self.device,
-            "projection",
-            &[0u8; std::mem::size_of::<GpuProjection>()],
-            wgpu::BufferUsages::empty(),
-        );
-        self.memory.energy = partials.size() + ledger.size() + projection.size();
-        let bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("energy"),
-            layout: &self.kernels.energy_layout,
-            entries: &[entry(2, &partials), entry(3, &ledger), entry(4, &projection)],
-        });
-        self.energy = Some(EnergyBuffers { ledger, projection, bind_group });
     }
 
     /// Allocates the local mode's snapshots and start energies (once).
@@ -534,31 +459,6 @@ impl GpuSolver {
         }
     }
 
-    /// Energies by the GPU reduction (records one, waits and reads the ledger back).
-    pub fn energies(&mut self) -> Result<GpuEnergies> {
-        self.prepare_energy();
-        let families = self.with_kernels();
-        let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("energy") });
-        {
-            let mut pass = encoder
-                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("energy"), timestamp_writes: None });
-            pass.set_bind_group(0, &self.particles_bind_group, &[]);
-            self.encode_energy(&mut pass, &families, 2);
-        }
-        self.queue.submit([encoder.finish()]);
-        let Some(e) = &self.energy else { return Ok(GpuEnergies::default()) };
-        let l: Vec<GpuLedger> = read_buffer(&self.device, &self.queue, &e.ledger)?;
-        let l = l.first().copied().unwrap_or_default();
-        Ok(GpuEnergies {
-            kinetic: l.kinetic as f64,
-            gravitational: l.gravitational as f64 + self.gravity_shift,
-            elastic: l.elastic as f64,
-            held: l.held as f64,
-            dissipated: l.work as f64,
-            last_scale: l.sigma as f64,
-        })
-    }
-
     /// Dispatches one frame needs under `s` (for reports).
     pub fn dispatches_per_frame(&self, s: &Settings) -> u64 {
         let present = self.families.len() as u64;
@@ -584,85 +484,6 @@ impl GpuSolver {
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("frame") });
         self.encode_frame(&mut encoder, s);
         self.queue.submit([encoder.finish()]);
-    }
-
-    /// Allocates Jacobi's scales, corrections and incidence (once per ω).
-    fn prepare_jacobi(&mut self, omega: f32) {
-        if self.jacobi.as_ref().is_some_and(|j| j.omega == omega) {
-            return;
-        }
-        let count = jacobi::constraint_counts(&self.scene);
-        // For each particle, the correction slots touching it in the CPU's summation order
-        // (families in solve order, elements in order); and each family's scales.
-        let mut lists: Vec<Vec<u32>> = vec![Vec::new(); self.n as usize];
-        let mut scales = Vec::with_capacity(self.families.len());
-        for f in &self.families {
-            let scene = &self.scene;
-            scales.push(
-                match f.kind {
-                    FamilyKind::Springs => {
-                        scene.springs.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
-                    }
-                    FamilyKind::Bending => {
-                        scene.bends.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
-                    }
-                    FamilyKind::Tets => {
-                        scene.tets.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
-                    }
-                    FamilyKind::Membranes => {
-                        scene.membranes.as_ref().map(|e| incidence(e, f.slot_base, &count, omega, &mut lists))
-                    }
-                }
-                .unwrap_or_default(),
-            );
-        }
-        let total_slots: u32 = self.families.iter().map(|f| f.kind.arity() * f.len).sum();
-        let corr = storage_buffer(
-            &self.device,
-            "jacobi corrections",
-            &vec![0u8; total_slots as usize * 16],
-            wgpu::BufferUsages::empty(),
-        );
-        let mut offsets = Vec::with_capacity(lists.len() + 1);
-        let mut slots = Vec::new();
-        offsets.push(0u32);
-        for l in &lists {
-            slots.extend_from_slice(l);
-            offsets.push(slots.len() as u32);
-        }
-        let offsets = storage_buffer(
-            &self.device,
-            "incidence offsets",
-            bytemuck::cast_slice(&offsets),
-            wgpu::BufferUsages::empty(),
-        );
-        let slots =
-            storage_buffer(&self.device, "incidence slots", bytemuck::cast_slice(&slots), wgpu::BufferUsages::empty());
-        let apply_bind_group = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("jacobi apply"),
-            layout: &self.kernels.apply_layout,
-            entries: &[entry(0, &corr), entry(1, &offsets), entry(2, &slots)],
-        });
-        // The buffers of an earlier ω are dropped with their bind groups below.
-        self.memory.jacobi = corr.size() + offsets.size() + slots.size();
-        for (f, sc) in self.families.iter_mut().zip(scales) {
-            {
-                let scale = storage_buffer(
-                    &self.device,
-                    "jacobi scale",
-                    bytemuck::cast_slice(&sc),
-                    wgpu::BufferUsages::empty(),
-                );
-                self.memory.jacobi += scale.size();
-                let bg = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("family jacobi"),
-                    layout: &self.kernels.family_jacobi_layout,
-                    entries: &[entry(0, &f.elements), entry(1, &f.lambda), entry(2, &scale), entry(3, &corr)],
-                });
-                f.jacobi = Some((scale, bg));
-            }
-        }
-        self.jacobi = Some(JacobiBuffers { apply_bind_group, omega });
     }
 
     /// Reads positions, velocities and multipliers back (waits for the GPU).
@@ -714,23 +535,6 @@ impl GpuSolver {
     pub fn last_constants(&self) -> Option<StepConstants<f32>> {
         self.last.as_ref().map(StepConstants::<f32>::new)
     }
-}
-
-/// Appends, for each particle, the correction slots of `f`'s elements that touch it, and returns
-/// the elements' Jacobi scales.
-fn incidence<E: Element<N>, const N: usize>(
-    f: &Family<E, N>,
-    slot_base: u32,
-    count: &[u32],
-    omega: f32,
-    lists: &mut [Vec<u32>],
-) -> Vec<f32> {
-    for (j, e) in f.elements.iter().enumerate() {
-        for (k, &p) in e.particles().iter().enumerate() {
-            lists[p as usize].push(slot_base + (N * j + k) as u32);
-        }
-    }
-    jacobi::scales(&f.elements, count, omega)
 }
 
 /// A family's length, color ranges and element bytes for upload.

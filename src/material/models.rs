@@ -1,4 +1,4 @@
-//! The five 3D elastic models of SPEC §3, as energy densities `Ψ(F)` (J/m³) and first
+//! The five 3D elastic models of docs/algorithm.md §3, as energy densities `Ψ(F)` (J/m³) and first
 //! Piola–Kirchhoff stresses `P = ∂Ψ/∂F` (Pa).
 //!
 //! Parameters come from Young's modulus `E` and Poisson's ratio `ν`: Lamé `μ = E/(2(1+ν))`,

@@ -1,4 +1,4 @@
-//! The error-against-run-time study (`eapbd report error-vs-time`, SPEC §7).
+//! The error-against-run-time study (`eapbd report error-vs-time`, docs/algorithm.md §7).
 //!
 //! 1. **Start state.** The scene runs `start_frame` frames with a well-converged solver (CPU,
 //!    f32, Gauss-Seidel, compliant form, [`WARMUP_SUBSTEPS`] substeps × 1 iteration); its

@@ -9,6 +9,7 @@
 //! - [`plot`]: line plots written as PNG.
 
 pub mod beam;
+mod beam_markdown;
 mod beam_output;
 pub mod cantilever;
 pub mod energy;
@@ -19,4 +20,5 @@ pub mod plot;
 pub mod splits;
 mod splits_output;
 pub mod stability;
+mod stability_cases;
 mod stability_output;

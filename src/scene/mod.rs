@@ -77,7 +77,7 @@ pub struct Scene {
     pub inv_mass: Vec<f32>,
     /// Surface triangles, for drawing and export.
     pub triangles: Vec<[u32; 3]>,
-    /// Edges whose relative stretch is reported (SPEC §7).
+    /// Edges whose relative stretch is reported (docs/algorithm.md §7).
     pub edges: Vec<[u32; 2]>,
     /// Rest length of each of `edges` (m).
     pub edge_rest: Vec<f32>,
@@ -124,7 +124,7 @@ pub struct SceneOptions {
     /// Particles per side of a cloth, cells along the beam or along each side of the cube;
     /// `None` takes the scene's own (41, 10, 4).
     pub resolution: Option<u32>,
-    /// Small-strain spring stiffness `k_s` (N/m, SPEC §3).
+    /// Small-strain spring stiffness `k_s` (N/m, docs/algorithm.md §3).
     pub stiffness: f32,
     /// Spring energy model.
     pub material: SpringMaterial,

@@ -6,20 +6,25 @@ use glam::Vec3;
 
 use crate::constraints::SIMD_WIDTH;
 use crate::constraints::simd::is_f32;
-use crate::constraints::{Element, Form, LaneData, LaneView, Positions, gather};
+use crate::constraints::{Element, LaneData, LaneView, Positions};
 use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 
 use super::contacts::project_range;
-use super::energy::{EnergyAware, global_scale, local_constraint};
+use super::energy::{EnergyAware, global_scale};
 use super::jacobi;
 use super::particles::{self, FinishStep};
 use super::shared::Prechecked;
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
 
+use jacobi_sweep::{JacobiAt, jacobi_element};
+use local::{LocalCtx, LocalState, local_adjusted, local_ctx, start_energies};
+
 mod choice;
+mod jacobi_sweep;
+mod local;
 mod plan;
 mod pool;
 mod project;
@@ -50,15 +55,7 @@ struct FamilyState<S> {
     bound: usize,
 }
 
-/// The local mode's snapshots of the positions at the start of the current and the previous
-/// iteration (allocated only in that mode).
-#[derive(Clone, Debug, Default)]
-struct LocalState<V> {
-    current: Vec<V>,
-    previous: Vec<V>,
-}
-
-/// Energy bookkeeping (SPEC §4 and §7), in `f64`.
+/// Energy bookkeeping (docs/algorithm.md §4 and §7), in `f64`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct EnergyLedger {
     /// Work of physical dissipation since the start (J, ≤ 0 for losses): velocity damping and
@@ -77,13 +74,6 @@ pub struct EnergyLedger {
     pub momenta: Option<(glam::DVec3, glam::DVec3)>,
     /// The settings of the last projected frame (threads left out).
     pub projected_with: Option<Settings>,
-}
-
-/// Read-only context of the local mode for one family.
-struct LocalCtx<'a, V: Vector> {
-    current: &'a [V],
-    previous: &'a [V],
-    energy_start: &'a [V::S],
 }
 
 /// The CPU reference solver: owns a scene and the particle state simulated from it.
@@ -354,19 +344,6 @@ impl<V: Vector> CpuSolver<V> {
         self.ledger.last_scale = sigma;
     }
 
-    /// Snapshots and start energies of the local mode.
-    fn begin_local(&mut self, k: &StepConstants<V::S>) {
-        let Some(l) = &mut self.local else { return };
-        l.previous.copy_from_slice(&self.particles.x_prev);
-        l.current.copy_from_slice(&self.particles.x);
-        let x_prev = &self.particles.x_prev;
-        crate::for_each_family!(self.scene, |i, f| {
-            let out = &mut self.fam[i].energy_start;
-            out.resize(f.len(), V::S::zero());
-            start_energies(f, x_prev, (k.form, k.energy_compliance), 0..f.len(), out)
-        });
-    }
-
     fn predict(&mut self, h: V::S) {
         let g = V::from_vec3(self.scene.gravity);
         let p = &mut self.particles;
@@ -383,33 +360,8 @@ impl<V: Vector> CpuSolver<V> {
         self.work_blocks.iter().sum()
     }
 
-    fn prepare_jacobi(&mut self, omega: f32) {
-        if self.jacobi_omega == Some(omega) {
-            return;
-        }
-        self.jacobi_omega = Some(omega);
-        let count = jacobi::constraint_counts(&self.scene);
-        let omega: V::S = omega.into();
-        crate::for_each_family!(self.scene, |i, f| self.fam[i].jacobi_scale =
-            jacobi::scales(&f.elements, &count, omega));
-        self.dx = vec![V::ZERO; self.particles.len()];
-    }
-
-    fn jacobi_iteration(&mut self, k: &StepConstants<V::S>, local: bool) {
-        self.dx.fill(V::ZERO);
-        let l = self.local.as_ref().filter(|_| local);
-        crate::for_each_family!(self.scene, |i, f| {
-            let st = &mut self.fam[i];
-            let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-            jacobi(f, &mut st.lambda, &st.jacobi_scale, &self.particles, &mut self.dx, k, ctx)
-        });
-        for (x, d) in self.particles.x.iter_mut().zip(&self.dx) {
-            *x += *d;
-        }
-    }
-
     /// RMS and maximum of the XPBD residual `|C_j + α̃ λ_j|` over all constraints, with the
-    /// multipliers of the last substep (SPEC §7). `(0, 0)` before the first step.
+    /// multipliers of the last substep (docs/algorithm.md §7). `(0, 0)` before the first step.
     pub fn residual(&self) -> (f64, f64) {
         let Some(k) = &self.last else { return (0.0, 0.0) };
         metrics::residual(&self.scene, &self.particles.x, self.lambdas(), k)
@@ -457,7 +409,7 @@ fn potential_energy<V: Vector>(scene: &Scene, rest_com: Vec3, x: &[V], w: &[V::S
     metrics::gravitational_about(scene.gravity, rest_com, x, w) + metrics::elastic_energy(scene, x)
 }
 
-/// The global balance (SPEC §4) after a substep that dissipated `work` (J) from a state of energy
+/// The global balance (docs/algorithm.md §4) after a substep that dissipated `work` (J) from a state of energy
 /// `h0` (J): scales the free particles' velocities by `σ` ([`global_scale`]); returns `σ` and the
 /// energy `H₀ = σ² K₁ + P₁` carried to the next substep.
 fn balance<V: Vector>(
@@ -481,60 +433,6 @@ fn balance<V: Vector>(
         }
     }
     (sigma, sigma * sigma * k1 + p1)
-}
-
-fn local_ctx<'a, V: Vector>(l: &'a LocalState<V>, energy_start: &'a [V::S]) -> LocalCtx<'a, V> {
-    LocalCtx { current: &l.current, previous: &l.previous, energy_start }
-}
-
-/// Material energy of the elements of `f` in `out`'s range (`out[j]` for element `range.start +
-/// j`) at `x` (the local mode's `E_j(x_start)`), computed the way the projection sees it: `C` in
-/// the energy form, `C²/(2α)` in the compliant form.
-fn start_energies<E: Element<N>, V: Vector, const N: usize>(
-    f: &Family<E, N>,
-    x: &[V],
-    (form, energy_compliance): (Form, V::S),
-    range: std::ops::Range<usize>,
-    out: &mut [V::S],
-) {
-    for (e, o) in f.elements[range].iter().zip(out) {
-        let p = e.constraint(&f.params, &gather(x, e.particles()), form, energy_compliance);
-        *o = projected_energy(p.c, p.alpha, form);
-    }
-}
-
-/// The material energy of a constraint from its projection: `C` (energy form) or `C²/(2α)`.
-#[inline(always)]
-fn projected_energy<S: Real>(c_val: S, alpha: S, form: Form) -> S {
-    match form {
-        Form::Energy => c_val,
-        Form::Compliant => c_val * c_val / (alpha + alpha),
-    }
-}
-
-/// The local mode's `C̃` for element `j` with particles `idx` at the live positions `xs`.
-#[inline(always)]
-fn local_adjusted<V: Vector, const N: usize>(
-    l: &LocalCtx<'_, V>,
-    j: usize,
-    idx: [u32; N],
-    xs: &[V; N],
-    ws: &[V::S; N],
-    k: &StepConstants<V::S>,
-    c_val: V::S,
-    alpha: V::S,
-) -> V::S {
-    let mut kinetic = V::S::zero();
-    for n in 0..N {
-        if ws[n] > V::S::zero() {
-            let i = idx[n] as usize;
-            let now = (xs[n] - l.current[i]).length_squared();
-            let before = (l.current[i] - l.previous[i]).length_squared();
-            kinetic += (now - before) / ws[n];
-        }
-    }
-    let r = c::<V::S>(0.5) * kinetic * k.inv_h2 + (projected_energy(c_val, alpha, k.form) - l.energy_start[j]);
-    local_constraint(c_val, alpha, r, k.form)
 }
 
 /// One Gauss-Seidel sweep over a family's color groups, in order.
@@ -672,59 +570,4 @@ fn sweep<E: Element<N>, V: Vector, const N: usize>(
             update(e, &f.params, l, &mut p.x[..], &p.x_prev, &p.w, k, adj);
         }
     }
-}
-
-/// One Jacobi pass over a family: corrections accumulate into `dx`, scaled per constraint.
-fn jacobi<E: Element<N>, V: Vector, const N: usize>(
-    f: &Family<E, N>,
-    lambda: &mut [V::S],
-    scale: &[V::S],
-    p: &Particles<V>,
-    dx: &mut [V],
-    k: &StepConstants<V::S>,
-    local: Option<LocalCtx<'_, V>>,
-) {
-    for (j, (e, l)) in f.elements.iter().zip(lambda.iter_mut()).enumerate() {
-        let at = JacobiAt { x: &p.x, x_prev: &p.x_prev, w: &p.w, k };
-        if let Some(corr) = jacobi_element(e, &f.params, j, l, scale[j], at, local.as_ref()) {
-            for (i, c) in e.particles().into_iter().zip(corr) {
-                dx[i as usize] += c;
-            }
-        }
-    }
-}
-
-/// The state a Jacobi pass reads: positions `x`, substep starts, inverse masses, constants.
-#[derive(Clone, Copy)]
-struct JacobiAt<'a, V: Vector> {
-    x: &'a [V],
-    x_prev: &'a [V],
-    w: &'a [V::S],
-    k: &'a StepConstants<V::S>,
-}
-
-/// Jacobi's update of element `j` (multiplier `lambda`, scale `s_j`): adds the scaled `Δλ` to
-/// `lambda` and returns each particle's correction `w_i ∇C_i Δλ`, or `None` when the element is
-/// skipped.
-#[inline(always)]
-fn jacobi_element<E: Element<N>, V: Vector, const N: usize>(
-    e: &E,
-    params: &E::Params,
-    j: usize,
-    lambda: &mut V::S,
-    scale: V::S,
-    at: JacobiAt<'_, V>,
-    local: Option<&LocalCtx<'_, V>>,
-) -> Option<[V; N]> {
-    let idx = e.particles();
-    let xs = gather(at.x, idx);
-    let ws = idx.map(|i| at.w[i as usize]);
-    let adjust = |c_val, alpha| match local {
-        Some(ctx) => local_adjusted(ctx, j, idx, &xs, &ws, at.k, c_val, alpha),
-        None => c_val,
-    };
-    let (grad, d) = solve_element(e, params, &xs, &ws, at.x_prev, *lambda, at.k, adjust)?;
-    let d = d * scale;
-    *lambda += d;
-    Some(std::array::from_fn(|n| grad[n] * (ws[n] * d)))
 }

@@ -1,4 +1,4 @@
-//! Energy-aware Gauss-Seidel (SPEC §4): the setting and the two formulas every backend shares.
+//! Energy-aware Gauss-Seidel (docs/algorithm.md §4): the setting and the two formulas every backend shares.
 //! `on` names `project`, the energy-momentum projection ([`super::projection`]): of the four
 //! settings the only one that keeps the honest energy and the motion of the hanging cloth at
 //! 10 × 3 and 30 × 1 substeps × iterations (docs/energy-aware.md).

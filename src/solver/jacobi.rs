@@ -1,4 +1,4 @@
-//! Jacobi's per-constraint scale `s_j = ω / max_{i∈j} nᵢ` (SPEC §1), shared by every backend.
+//! Jacobi's per-constraint scale `s_j = ω / max_{i∈j} nᵢ` (docs/algorithm.md §1), shared by every backend.
 
 use crate::constraints::Element;
 use crate::math::prelude::*;

@@ -1,5 +1,5 @@
 //! Solvers and their settings. The CPU reference solver ([`CpuSolver`]) runs the stage list that
-//! every backend follows, per substep of `h = dt / substeps` (SPEC §1):
+//! every backend follows, per substep of `h = dt / substeps` (docs/algorithm.md §1):
 //!
 //! 1. predict: `x_prev = x`, `v += h g`, `x += h v` (free particles only);
 //! 2. `λ = 0`;
@@ -82,7 +82,7 @@ pub struct Settings {
     pub constraint_damping: f32,
     /// Compliance `α` of the energy form (the paper's author used 1e-5).
     pub energy_compliance: f32,
-    /// The energy-aware setting (SPEC §4).
+    /// The energy-aware setting (docs/algorithm.md §4).
     pub energy_aware: EnergyAware,
     /// Successive over-relaxation `ω`: every `Δλ` is scaled by it (1 = plain).
     pub sor: f32,
