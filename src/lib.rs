@@ -58,10 +58,15 @@
 //! | [`mesh`] | triangle and tetrahedral meshes: cloth grids, boxes, lattices with embedded surfaces, topology, OBJ and TetGen input, OBJ export |
 //! | [`metrics`] | residual, stretch and energy measures ([`metrics::FrameStats`]) |
 //! | [`render`] | camera, pipelines, scene draw data, offscreen targets and PNG output |
-//! | [`report`] | the studies behind `eapbd report` (energy, beam, stability) and their plots |
-//! | [`viewer`] | the interactive window (winit, egui) on the solver's device |
+//! | `report` | the studies behind `eapbd report` (energy, beam, stability) and their plots (feature `studies`) |
+//! | `viewer` | the interactive window (winit, egui) on the solver's device (feature `viewer`) |
 //! | [`math`] | the precision-generic [`math::Vector`] and [`math::Real`] traits over glam |
 //! | [`error`] | [`Error`] and [`Result`] |
+//!
+//! Every module but `report` and `viewer` is the simulation core, which depends on neither the
+//! window system, the plotting library nor the command line. The layers above it are features:
+//! `viewer` (the window) and `studies` (`report`), both on by default; the `eapbd` binary
+//! (feature `cli`) adds the command line and the bench.
 
 pub mod coloring;
 pub mod constraints;
@@ -72,10 +77,12 @@ pub mod math;
 pub mod mesh;
 pub mod metrics;
 pub mod render;
+#[cfg(feature = "studies")]
 pub mod report;
 pub mod scene;
 pub mod simulation;
 pub mod solver;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 
 pub use error::{Error, Result};

@@ -1,4 +1,5 @@
 //! The command line: outputs it writes and the errors it reports.
+#![cfg(feature = "cli")]
 
 use std::ops::Deref;
 use std::path::{Path, PathBuf};

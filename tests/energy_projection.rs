@@ -121,6 +121,7 @@ fn the_projection_gives_the_same_bits_on_any_thread_count() {
 }
 
 #[test]
+#[cfg(feature = "studies")]
 fn the_splits_report_writes_its_tables_and_figures() {
     use eapbd::report::splits::{self, SPLITS, SplitsOptions};
     let opts = SplitsOptions::quick();

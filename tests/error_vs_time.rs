@@ -3,6 +3,7 @@
 //! variant falls from the smallest to the largest budget of each split (except SOR at one
 //! iteration per substep, see below), and the error-against-frame runs agree with the sweep at
 //! frame K.
+#![cfg(feature = "cli")]
 
 use std::collections::HashMap;
 use std::path::Path;

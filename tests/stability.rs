@@ -1,5 +1,6 @@
 //! `eapbd report stability --quick`: its CSV parses, and every case that the committed study
 //! (`docs/stability/stability.csv`) lists as passing still passes.
+#![cfg(feature = "cli")]
 
 use std::collections::HashMap;
 use std::path::Path;

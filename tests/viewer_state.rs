@@ -1,5 +1,6 @@
 //! The viewer without a window: the widgets edit the state, and the next frame runs with it;
 //! dragging a particle, the strain kernel and the view modes on the GPU (lavapipe in CI).
+#![cfg(feature = "viewer")]
 
 use std::sync::Arc;
 

@@ -3,6 +3,7 @@
 //! installed), drawn on the GPU adapter (lavapipe in CI). The screenshot (panels included) is
 //! compared with `tests/golden/viewer_cloth_paper.png` by a tolerance; regenerate it on purpose
 //! with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release --test viewer_window`.
+#![cfg(feature = "cli")]
 
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;

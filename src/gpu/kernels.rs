@@ -38,7 +38,7 @@ pub struct Kernels {
     jacobi_apply: OnceLock<wgpu::ComputePipeline>,
     local: OnceLock<LocalKernels>,
     energy: OnceLock<EnergyKernels>,
-    families: [OnceLock<FamilyKernels>; 4],
+    families: [OnceLock<FamilyKernels>; crate::scene::FAMILY_COUNT],
 }
 
 /// The constraint families the GPU solver runs, in the CPU's order (`kind as usize` is the
@@ -57,7 +57,7 @@ pub enum FamilyKind {
 
 impl FamilyKind {
     /// Every family, in solve order.
-    pub const ALL: [FamilyKind; 4] =
+    pub const ALL: [FamilyKind; crate::scene::FAMILY_COUNT] =
         [FamilyKind::Springs, FamilyKind::Bending, FamilyKind::Tets, FamilyKind::Membranes];
 
     /// The family's name (its WGSL module and buffer labels).

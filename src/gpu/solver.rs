@@ -13,6 +13,7 @@ use crate::constraints::Element;
 use crate::error::{Error, Result};
 use crate::metrics::{FrameStats, StateView};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
+use crate::solver::stages::{self, FrameStart, Stage};
 use crate::solver::{EnergyAware, Method, Settings, StepConstants, jacobi};
 
 /// Stride of the dispatch-range table (the uniform offset alignment).
@@ -42,6 +43,7 @@ struct GpuFamily {
 mod energy;
 mod jacobi_buffers;
 mod projection;
+mod stage;
 
 use energy::EnergyBuffers;
 pub use energy::GpuEnergies;
@@ -86,6 +88,8 @@ pub struct GpuSolver {
     scene: Scene,
     /// Positions (xyz, m) and inverse masses (w, 1/kg), one `vec4<f32>` per particle.
     pub x: wgpu::Buffer,
+    /// The substep's start positions (xyz, m), one `vec4<f32>` per particle.
+    x_prev: wgpu::Buffer,
     v: wgpu::Buffer,
     params: wgpu::Buffer,
     particles_bind_group: wgpu::BindGroup,
@@ -110,6 +114,10 @@ pub struct GpuSolver {
     n: u32,
     /// Sizes of the buffers created so far.
     memory: GpuMemory,
+    /// Each family's color groups ([`stages::color_counts`]).
+    colors: [usize; FAMILY_COUNT],
+    /// The last frame's stages (kept, so a frame allocates none).
+    stages: Vec<Stage>,
 }
 
 /// `−M g·(x_com − x_floor)`: converts gravitational energy about the rest centre of mass into
@@ -194,18 +202,11 @@ impl GpuSolver {
             slot_base += kind.arity() * len as u32;
             f
         };
-        let families: Vec<GpuFamily> = FamilyKind::ALL
-            .into_iter()
-            .filter_map(|kind| {
-                let (len, colors, bytes) = match kind {
-                    FamilyKind::Springs => scene.springs.as_ref().map(upload)?,
-                    FamilyKind::Bending => scene.bends.as_ref().map(upload)?,
-                    FamilyKind::Tets => scene.tets.as_ref().map(upload)?,
-                    FamilyKind::Membranes => scene.membranes.as_ref().map(upload)?,
-                };
-                Some(family(kind, len, colors, bytes))
-            })
-            .collect();
+        let mut families: Vec<GpuFamily> = Vec::with_capacity(FamilyKind::ALL.len());
+        crate::for_each_family!(scene, |i, f| {
+            let (len, colors, bytes) = upload(f);
+            families.push(family(FamilyKind::ALL[i], len, colors, bytes));
+        });
         let total_offsets = [0u32, 1, 2].map(|mode| {
             ranges.push(DispatchRange { start: mode, count: 0, slot_base: 0, pad: 0 });
             ((ranges.len() as u64 - 1) * RANGE_STRIDE) as u32
@@ -239,12 +240,14 @@ impl GpuSolver {
             fixed: params.size() + spheres.size() + range_table.size(),
             ..GpuMemory::default()
         };
+        let colors = stages::color_counts(&scene);
         Ok(GpuSolver {
             kernels,
             device: device.clone(),
             queue: queue.clone(),
             scene,
             x,
+            x_prev,
             v,
             params,
             particles_bind_group,
@@ -261,6 +264,8 @@ impl GpuSolver {
             last: None,
             n,
             memory,
+            colors,
+            stages: Vec::new(),
         })
     }
 
@@ -300,6 +305,34 @@ impl GpuSolver {
     /// Call [`Settings::validate`] first.
     pub fn encode_frame(&mut self, encoder: &mut wgpu::CommandEncoder, s: &Settings) {
         let projection = self.plan_projection(s);
+        self.prepare(s);
+        let global = s.energy_aware == EnergyAware::Global;
+        if !global {
+            self.ledger_valid = false;
+        }
+        let start = FrameStart {
+            projection_start: projection.is_some_and(|p| p.start_before),
+            balance_start: global && !self.ledger_valid,
+        };
+        self.ledger_valid = global;
+        let mut list = std::mem::take(&mut self.stages);
+        stages::frame_into(&mut list, &self.colors, s, start);
+        let mut pass =
+            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
+        pass.set_bind_group(0, &self.particles_bind_group, &[]);
+        let start_after = projection.is_some_and(|p| p.start_after);
+        let families = self.with_kernels();
+        for &stage in &list {
+            self.encode_stage(&mut pass, &families, stage, s, start_after);
+        }
+        drop(pass);
+        drop(families);
+        self.stages = list;
+    }
+
+    /// What a frame under `s` needs before its stages: the parameters uploaded, Jacobi's
+    /// buffers, the energy reduction's, the local mode's.
+    fn prepare(&mut self, s: &Settings) {
         if self.last.as_ref() != Some(s) {
             self.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&SimParams::new(&self.scene, s)));
             self.last = Some(*s);
@@ -307,122 +340,31 @@ impl GpuSolver {
         if s.method == Method::Jacobi {
             self.prepare_jacobi(s.jacobi_omega);
         }
-        let global = s.energy_aware == EnergyAware::Global;
-        let local = s.energy_aware == EnergyAware::Local;
-        if global || projection.is_some() {
+        if matches!(s.energy_aware, EnergyAware::Global | EnergyAware::Project) {
             self.prepare_energy();
         }
-        if global {
-        } else {
-            self.ledger_valid = false;
-        }
-        if local {
+        if s.energy_aware == EnergyAware::Local {
             self.prepare_local();
         }
-        let init_ledger = global && !self.ledger_valid;
-        self.ledger_valid = global;
-        let k = &*self.kernels;
-        let families = self.with_kernels();
-        let particle_groups = groups(self.n);
-        let mut pass =
-            encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
-        pass.set_bind_group(0, &self.particles_bind_group, &[]);
-        if init_ledger {
-            self.encode_energy(&mut pass, &families, 0);
+    }
+
+    /// Dispatches `pipeline` in `workgroups` groups over the whole of family `f`: its elements and
+    /// multipliers as bind group 1, its whole range as group 2, and `group3` where given.
+    fn dispatch_family(
+        &self,
+        pass: &mut wgpu::ComputePass<'_>,
+        pipeline: &wgpu::ComputePipeline,
+        f: &GpuFamily,
+        group3: Option<&wgpu::BindGroup>,
+        workgroups: u32,
+    ) {
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(1, &f.bind_group, &[]);
+        pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
+        if let Some(g) = group3 {
+            pass.set_bind_group(3, g, &[]);
         }
-        if let Some(p) = projection
-            && p.start_before
-        {
-            self.encode_projection(&mut pass, &families, true);
-        }
-        let local_groups = self.local.as_ref().filter(|_| local);
-        for _ in 0..s.substeps {
-            pass.set_pipeline(&k.predict);
-            pass.dispatch_workgroups(particle_groups, 1, 1);
-            for (f, fk) in &families {
-                pass.set_pipeline(&fk.clear);
-                pass.set_bind_group(1, &f.bind_group, &[]);
-                pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
-                pass.dispatch_workgroups(groups(f.len), 1, 1);
-            }
-            if let Some(lg) = local_groups {
-                pass.set_pipeline(&k.local().begin);
-                pass.set_bind_group(3, lg, &[]);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
-                for (f, fk) in &families {
-                    if let Some(fl) = &f.local {
-                        pass.set_pipeline(&fk.local_begin);
-                        pass.set_bind_group(1, &f.bind_group, &[]);
-                        pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
-                        pass.set_bind_group(3, fl, &[]);
-                        pass.dispatch_workgroups(groups(f.len), 1, 1);
-                    }
-                }
-            }
-            for iteration in 0..s.iterations {
-                if iteration > 0
-                    && let Some(lg) = local_groups
-                {
-                    pass.set_pipeline(&k.local().snapshot);
-                    pass.set_bind_group(3, lg, &[]);
-                    pass.dispatch_workgroups(particle_groups, 1, 1);
-                }
-                match s.method {
-                    Method::GaussSeidel => {
-                        for (f, fk) in &families {
-                            let local_family = f.local.as_ref().filter(|_| local);
-                            pass.set_pipeline(if local_family.is_some() {
-                                &fk.gauss_seidel_local
-                            } else {
-                                &fk.gauss_seidel
-                            });
-                            pass.set_bind_group(1, &f.bind_group, &[]);
-                            if let Some(fl) = local_family {
-                                pass.set_bind_group(3, fl, &[]);
-                            }
-                            for (&offset, &r) in f.color_offsets.iter().zip(&f.color_sizes) {
-                                pass.set_bind_group(2, &self.range_bind_group, &[offset]);
-                                pass.dispatch_workgroups(groups(r), 1, 1);
-                            }
-                        }
-                    }
-                    Method::Jacobi => {
-                        for (f, fk) in &families {
-                            if let Some((_, bg)) = &f.jacobi {
-                                let local_family = f.local.as_ref().filter(|_| local);
-                                pass.set_pipeline(if local_family.is_some() { &fk.jacobi_local } else { &fk.jacobi });
-                                pass.set_bind_group(1, bg, &[]);
-                                pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
-                                if let Some(fl) = local_family {
-                                    pass.set_bind_group(3, fl, &[]);
-                                }
-                                pass.dispatch_workgroups(groups(f.len), 1, 1);
-                            }
-                        }
-                        if let Some(j) = &self.jacobi {
-                            pass.set_pipeline(k.jacobi_apply());
-                            pass.set_bind_group(1, &j.apply_bind_group, &[]);
-                            pass.dispatch_workgroups(particle_groups, 1, 1);
-                        }
-                    }
-                }
-                if s.contacts_in_loop(iteration) {
-                    pass.set_pipeline(&k.contacts);
-                    pass.dispatch_workgroups(particle_groups, 1, 1);
-                }
-            }
-            pass.set_pipeline(&k.finish);
-            pass.dispatch_workgroups(particle_groups, 1, 1);
-            if global && let Some(e) = &self.energy {
-                self.encode_energy(&mut pass, &families, 1);
-                pass.set_pipeline(&k.energy().apply_scale);
-                pass.set_bind_group(3, &e.bind_group, &[]);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
-            }
-        }
-        if let Some(p) = projection {
-            self.encode_projection(&mut pass, &families, p.start_after);
-        }
+        pass.dispatch_workgroups(workgroups, 1, 1);
     }
 
     /// The scene's families with their kernels.
@@ -459,24 +401,11 @@ impl GpuSolver {
         }
     }
 
-    /// Dispatches one frame needs under `s` (for reports).
+    /// Dispatches one frame needs under `s` (for reports): the sum over its stages
+    /// ([`stages::frame`], once the projection's budget and the balance's energy have started).
     pub fn dispatches_per_frame(&self, s: &Settings) -> u64 {
-        let present = self.families.len() as u64;
-        let per_iteration = match s.method {
-            Method::GaussSeidel => self.families.iter().map(|f| f.color_offsets.len() as u64).sum::<u64>(),
-            Method::Jacobi => present + 1,
-        } + 1;
-        let energy = match s.energy_aware {
-            EnergyAware::Off => 0,
-            EnergyAware::Local => 1 + present + s.iterations.saturating_sub(1) as u64,
-            EnergyAware::Global => present + 3,
-            EnergyAware::Project => 0,
-        };
-        // The projection, once a frame: the energy reduction and its five stages.
-        let projection = if s.energy_aware == EnergyAware::Project { present + 7 } else { 0 };
-        // The last iteration's contact pass runs in the finish kernel.
-        let in_finish = s.contacts_in_finish() as u64;
-        s.substeps as u64 * (2 + present + s.iterations as u64 * per_iteration - in_finish + energy) + projection
+        let list = stages::frame(&self.colors, s, FrameStart::default());
+        list.iter().map(|&stage| self.stage_dispatches(stage, s)).sum()
     }
 
     /// Records and submits one frame, without waiting.

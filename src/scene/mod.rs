@@ -38,6 +38,19 @@ macro_rules! for_each_family {
     }};
 }
 
+/// Evaluates `$body` for family `$index` of `$scene` (its index in [`for_each_family`]'s order)
+/// with `$f` bound to the `&Family`; nothing when the scene has no such family.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! with_family {
+    ($scene:expr, $index:expr, |$f:ident| $body:expr) => {{
+        let index: usize = $index;
+        $crate::for_each_family!($scene, |i, $f| if i == index {
+            $body;
+        });
+    }};
+}
+
 use glam::Vec3;
 
 use crate::constraints::{Bend, Membrane, Orthotropic, Spring, SpringMaterial, Tet};

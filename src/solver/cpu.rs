@@ -1,5 +1,6 @@
 //! The CPU reference solver, generic over precision (`f32` at run time, `f64` for references).
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use glam::Vec3;
@@ -11,11 +12,11 @@ use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 
-use super::contacts::project_range;
 use super::energy::{EnergyAware, global_scale};
 use super::jacobi;
 use super::particles::{self, FinishStep};
 use super::shared::Prechecked;
+use super::stages::{self, FrameStart, Stage};
 use super::xpbd::{StepConstants, solve_element};
 use super::{Method, Particles, Settings};
 
@@ -28,7 +29,10 @@ mod local;
 mod plan;
 mod pool;
 mod project;
+mod run;
 mod team;
+#[cfg(test)]
+mod team_tests;
 mod team_time;
 
 pub use team_time::TeamTime;
@@ -110,6 +114,14 @@ pub struct CpuSolver<V: Vector> {
     jacobi_slots: Option<(jacobi::Slots, Vec<V>)>,
     /// The inverse masses the families' `lanes` were taken from.
     w_seen: Vec<V::S>,
+    /// Each family's color groups ([`stages::color_counts`]).
+    colors: [usize; FAMILY_COUNT],
+    /// The last frame's stages (kept, so a frame allocates none).
+    stages: Vec<Stage>,
+    /// The dissipated work at the start of the frame under the projection (J), for its budget.
+    dissipated_before: Option<f64>,
+    /// The last finish pass's dissipated work (J), for the global balance after it.
+    substep_work: f64,
     /// The team's time working and waiting ([`CpuSolver::team_time`]).
     team_time: TeamTime,
 }
@@ -142,6 +154,10 @@ impl<V: Vector> CpuSolver<V> {
             plan: None,
             jacobi_slots: None,
             w_seen: Vec::new(),
+            colors: stages::color_counts(&scene),
+            stages: Vec::new(),
+            dissipated_before: None,
+            substep_work: 0.0,
             team_time: TeamTime::default(),
             scene,
         }
@@ -159,6 +175,52 @@ impl<V: Vector> CpuSolver<V> {
 
     /// Advances one frame of `settings.dt` (call [`Settings::validate`] first).
     pub fn step_frame(&mut self, s: &Settings) {
+        let k = self.prepare(s);
+        let project = self.before_projection(s);
+        let start = FrameStart {
+            projection_start: project.is_some_and(|p| p.start),
+            balance_start: s.energy_aware == EnergyAware::Global && self.ledger.carried.is_none(),
+        };
+        let mut list = std::mem::take(&mut self.stages);
+        stages::frame_into(&mut list, &self.colors, s, start);
+        let substeps = stages::substeps(&list);
+        self.run_stages(&list[..substeps.start], s, &k);
+        // The frame runs on a worker of the solver's own pool, whose threads sweep the large
+        // groups as a team (a pool of its own: a team waits at spin barriers, which must not meet
+        // unrelated work on a shared pool).
+        let threads = match s.threads {
+            1 => 1,
+            0 => rayon::current_num_threads() as u32,
+            n => n.min(cores()),
+        };
+        let frame = &list[substeps.clone()];
+        match threads {
+            1 => self.substeps(frame, s, &k),
+            n => match self.thread_pool(n) {
+                Some(pool) => pool.install(|| self.substeps(frame, s, &k)),
+                None => self.substeps(frame, s, &k),
+            },
+        }
+        self.last = Some(k);
+        self.dissipated_before = project.map(|p| p.dissipated);
+        self.run_stages(&list[substeps.end..], s, &k);
+        self.stages = list;
+    }
+
+    /// Runs `list`, a part of the stages [`stages::frame`] lists for `s` (one stage, say), on this
+    /// thread after the same preparation as a frame: for stepping through a frame stage by stage,
+    /// and for the per-stage parity tests (`tests/gpu_stages.rs`). A finish pass makes the
+    /// prediction only when `list` holds it next.
+    pub fn step_stages(&mut self, list: &[Stage], s: &Settings) {
+        let k = self.prepare(s);
+        self.run_stages(list, s, &k);
+        self.last = Some(k);
+    }
+
+    /// What a frame under `s` needs before its stages: the step's constants (returned), the SIMD
+    /// kernels' lanes, Jacobi's scales, the local mode's snapshots, the balance's carried energy
+    /// dropped outside the global balance.
+    fn prepare(&mut self, s: &Settings) -> StepConstants<V::S> {
         let k = StepConstants::new(s);
         if s.method == Method::GaussSeidel && k.plain() && s.energy_aware != EnergyAware::Local {
             self.refresh_lanes();
@@ -173,26 +235,7 @@ impl<V: Vector> CpuSolver<V> {
         if s.energy_aware != EnergyAware::Global {
             self.ledger.carried = None;
         }
-        let project = self.before_projection(s);
-        // The frame runs on a worker of the solver's own pool, whose threads sweep the large
-        // groups as a team (a pool of its own: a team waits at spin barriers, which must not meet
-        // unrelated work on a shared pool).
-        let threads = match s.threads {
-            1 => 1,
-            0 => rayon::current_num_threads() as u32,
-            n => n.min(cores()),
-        };
-        match threads {
-            1 => self.substeps(s, &k),
-            n => match self.thread_pool(n) {
-                Some(pool) => pool.install(|| self.substeps(s, &k)),
-                None => self.substeps(s, &k),
-            },
-        }
-        self.last = Some(k);
-        if let Some(before) = project {
-            self.after_frame(before);
-        }
+        k
     }
 
     /// Kinetic + gravitational (from the rest centre of mass) + the elastic energy the
@@ -238,27 +281,22 @@ impl<V: Vector> CpuSolver<V> {
         self.pool.as_ref().map(|(_, p)| p.clone())
     }
 
-    fn substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
+    /// The frame's substeps (`frame`, their stages): on the team where it applies, else in order
+    /// on this thread.
+    fn substeps(&mut self, frame: &[Stage], s: &Settings, k: &StepConstants<V::S>) {
         if self.team_applies() {
             let start = std::time::Instant::now();
             let busy = match self.choice.team() {
-                true => self.team_substeps(s, k),
+                true => self.team_substeps(frame, s, k),
                 false => {
-                    self.serial_substeps(s, k);
+                    self.run_stages(frame, s, k);
                     false
                 }
             };
             self.choice = self.choice.next(start.elapsed(), busy);
             return;
         }
-        self.serial_substeps(s, k);
-    }
-
-    fn serial_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) {
-        let fuse = fuses_predict(s);
-        for i in 0..s.substeps {
-            self.substep(s, k, fuse && i > 0, fuse && i + 1 < s.substeps);
-        }
+        self.run_stages(frame, s, k);
     }
 
     /// Where the threads of the team spent their frames since the solver was made or
@@ -283,57 +321,6 @@ impl<V: Vector> CpuSolver<V> {
     pub fn potential_energy(&self) -> f64 {
         let p = &self.particles;
         potential_energy(&self.scene, self.rest_com, &p.x, &p.w)
-    }
-
-    /// One substep; `predicted` when the last one's finish pass already made this one's
-    /// prediction, `predict_next` to make the next one's in this one's finish pass
-    /// ([`fuses_predict`]).
-    fn substep(&mut self, s: &Settings, k: &StepConstants<V::S>, predicted: bool, predict_next: bool) {
-        let global = s.energy_aware == EnergyAware::Global;
-        let h0 = if global { Some(self.ledger.carried.unwrap_or_else(|| self.total_energy())) } else { None };
-        if !predicted {
-            self.predict(k.h);
-        }
-        self.work_blocks.fill(0.0);
-        for st in &mut self.fam {
-            st.lambda.fill(V::S::zero());
-        }
-        let local = s.energy_aware == EnergyAware::Local;
-        if local {
-            self.begin_local(k);
-        }
-        for iteration in 0..s.iterations {
-            if local
-                && iteration > 0
-                && let Some(l) = &mut self.local
-            {
-                std::mem::swap(&mut l.previous, &mut l.current);
-                l.current.copy_from_slice(&self.particles.x);
-            }
-            match s.method {
-                Method::GaussSeidel => {
-                    let l = self.local.as_ref().filter(|_| local);
-                    crate::for_each_family!(self.scene, |i, f| {
-                        let st = &mut self.fam[i];
-                        let ctx = l.map(|l| local_ctx(l, &st.energy_start));
-                        gauss_seidel(f, &mut st.lambda, (&st.lanes, st.bound), &mut self.particles, k, ctx)
-                    });
-                }
-                Method::Jacobi => self.jacobi_iteration(k, local),
-            }
-            if s.contacts_in_loop(iteration) {
-                let p = &mut self.particles;
-                let inv_h = (V::S::one() / k.h).to_f64();
-                project_range(&self.scene, &mut p.x, &p.x_prev, &p.v, &p.w, inv_h, &mut self.work_blocks);
-            }
-        }
-        let next = predict_next.then(|| V::from_vec3(self.scene.gravity));
-        let in_loop_contacts = s.contacts_in_finish();
-        let work = self.finish(FinishStep { h: k.h, damping: s.damping.into(), next, in_loop_contacts });
-        self.ledger.dissipated += work;
-        if let Some(h0) = h0 {
-            self.balance(h0, work);
-        }
     }
 
     /// The global balance ([`balance`]) on the solver's particles.
@@ -435,9 +422,10 @@ fn balance<V: Vector>(
     (sigma, sigma * sigma * k1 + p1)
 }
 
-/// One Gauss-Seidel sweep over a family's color groups, in order.
+/// Gauss-Seidel over the elements `group` of family `f` (one color group).
 fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
+    group: Range<usize>,
     lambda: &mut [V::S],
     (lanes, bound): (&LaneData, usize),
     p: &mut Particles<V>,
@@ -446,11 +434,11 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 ) {
     // Separate instantiations, so the plain sweep carries no trace of the local mode.
     match &local {
-        Some(ctx) => {
-            sweep(f, lambda, p, k, |j, idx, xs, ws, c_val, alpha| local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha))
-        }
-        None if k.plain() => plain_sweep(f, lambda, (lanes, bound), &mut p.x, &p.x_prev, &p.w, k),
-        None => sweep(f, lambda, p, k, |_, _, _, _, c_val, _| c_val),
+        Some(ctx) => sweep(f, group, lambda, p, k, |j, idx, xs, ws, c_val, alpha| {
+            local_adjusted(ctx, j, idx, xs, ws, k, c_val, alpha)
+        }),
+        None if k.plain() => plain_sweep(f, group, lambda, (lanes, bound), &mut p.x, &p.x_prev, &p.w, k),
+        None => sweep(f, group, lambda, p, k, |_, _, _, _, c_val, _| c_val),
     }
 }
 
@@ -461,6 +449,7 @@ fn gauss_seidel<E: Element<N>, V: Vector, const N: usize>(
 #[allow(unsafe_code)]
 fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
+    group: Range<usize>,
     lambda: &mut [V::S],
     (lanes, bound): (&LaneData, usize),
     x: &mut [V],
@@ -473,10 +462,8 @@ fn plain_sweep<E: Element<N>, V: Vector, const N: usize>(
     // (checked above), the lanes' offsets are those indices times the size of `V`
     // (`refresh_lanes`), and `plain_chunk` touches only the particles of the elements it is given.
     let x = &mut unsafe { Prechecked::slice(x) };
-    for range in &f.colors {
-        let (lo, hi) = (range.start as usize, range.end as usize);
-        plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, (w, lanes.view(lo..hi)), k);
-    }
+    let (lo, hi) = (group.start, group.end);
+    plain_chunk(&f.elements[lo..hi], &mut lambda[lo..hi], &f.params, x, x_prev, (w, lanes.view(lo..hi)), k);
 }
 
 /// Panics unless a family's particle indices (all below `bound`, [`FamilyState::bound`]) lie
@@ -495,12 +482,12 @@ fn family_has_wide<E: Element<N>, const N: usize>(_: &Family<E, N>) -> bool {
 /// masses, `lanes` the elements slot by slot ([`LaneData::view`]; the SIMD kernels run where
 /// there is one).
 #[inline(always)]
-fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
+fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, Q: Positions<V> + ?Sized, const N: usize>(
     es: &[E],
     ls: &mut [V::S],
     params: &E::Params,
     x: &mut P,
-    x_prev: &[V],
+    x_prev: &Q,
     (w, lanes): (&[V::S], Option<LaneView<'_, N>>),
     k: &StepConstants<V::S>,
 ) {
@@ -530,12 +517,12 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usiz
 /// The general update of one element: gather, project, write back. `adjust(positions, inverse
 /// masses, C, α)` gives the constraint value to project.
 #[inline(always)]
-fn update<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
+fn update<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, Q: Positions<V> + ?Sized, const N: usize>(
     e: &E,
     params: &E::Params,
     l: &mut V::S,
     x: &mut P,
-    x_prev: &[V],
+    x_prev: &Q,
     w: &[V::S],
     k: &StepConstants<V::S>,
     adjust: impl FnOnce(&[V; N], &[V::S; N], V::S, V::S) -> V::S,
@@ -552,22 +539,20 @@ fn update<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, const N: usize>(
     }
 }
 
-/// The Gauss-Seidel sweep, with `adjust(j, particles, positions, inverse masses, C, α)` giving
-/// the constraint value to project.
+/// The Gauss-Seidel sweep of the elements `group` (one color group), with `adjust(j, particles,
+/// positions, inverse masses, C, α)` giving the constraint value to project.
 #[inline(always)]
 fn sweep<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
+    group: Range<usize>,
     lambda: &mut [V::S],
     p: &mut Particles<V>,
     k: &StepConstants<V::S>,
     adjust: impl Fn(usize, [u32; N], &[V; N], &[V::S; N], V::S, V::S) -> V::S,
 ) {
-    let lambda = &mut lambda[..f.elements.len()];
-    for range in &f.colors {
-        let (lo, hi) = (range.start as usize, range.end as usize);
-        for (j, (e, l)) in f.elements[lo..hi].iter().zip(&mut lambda[lo..hi]).enumerate() {
-            let adj = |xs: &[V; N], ws: &[V::S; N], c_val, alpha| adjust(lo + j, e.particles(), xs, ws, c_val, alpha);
-            update(e, &f.params, l, &mut p.x[..], &p.x_prev, &p.w, k, adj);
-        }
+    let lo = group.start;
+    for (j, (e, l)) in f.elements[group.clone()].iter().zip(&mut lambda[group]).enumerate() {
+        let adj = |xs: &[V; N], ws: &[V::S; N], c_val, alpha| adjust(lo + j, e.particles(), xs, ws, c_val, alpha);
+        update(e, &f.params, l, &mut p.x[..], &p.x_prev[..], &p.w, k, adj);
     }
 }

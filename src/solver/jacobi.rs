@@ -28,6 +28,15 @@ pub fn scales<E: Element<N>, S: Real, const N: usize>(elements: &[E], count: &[u
         .collect()
 }
 
+/// Every family's scales at `omega`, indexed as in [`crate::for_each_family`] (empty where the
+/// scene has no such family): what both backends upload or keep.
+pub fn family_scales<S: Real>(scene: &Scene, omega: S) -> [Vec<S>; crate::scene::FAMILY_COUNT] {
+    let count = constraint_counts(scene);
+    let mut out: [Vec<S>; crate::scene::FAMILY_COUNT] = Default::default();
+    crate::for_each_family!(scene, |i, f| out[i] = scales(&f.elements, &count, omega));
+    out
+}
+
 /// Where the team puts each element's Jacobi corrections before the particles add them up: one
 /// slot per particle of every element, family after family in solve order, and for each particle
 /// the slots that touch it in that same order, the order in which the one-thread pass adds them

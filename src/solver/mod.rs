@@ -1,5 +1,5 @@
 //! Solvers and their settings. The CPU reference solver ([`CpuSolver`]) runs the stage list that
-//! every backend follows, per substep of `h = dt / substeps` (docs/algorithm.md §1):
+//! every backend follows ([`stages`]), per substep of `h = dt / substeps` (docs/algorithm.md §1):
 //!
 //! 1. predict: `x_prev = x`, `v += h g`, `x += h v` (free particles only);
 //! 2. `λ = 0`;
@@ -26,6 +26,7 @@ pub mod jacobi;
 mod particles;
 pub mod projection;
 mod shared;
+pub mod stages;
 mod xpbd;
 
 pub use cpu::{CpuSolver, TeamTime};

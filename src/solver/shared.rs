@@ -1,18 +1,31 @@
 //! Particle positions and multipliers written by several threads at once, for the elements of one
 //! color group.
 //!
-//! This is the crate's one use of `unsafe`. It is sound because of the coloring: within a color
-//! group no two elements share a particle ([`crate::coloring`], checked by its tests and by
-//! [`crate::coloring::Coloring::validate`]), so the threads that split a group read and write
-//! disjoint sets of particle indices; each thread takes a disjoint range of the group's elements
-//! ([`super::barrier::share`]) and so of their multipliers, and of the particles in the
-//! per-particle passes; and a particle that two threads touch in different steps is touched by
-//! the later one only after the earlier one has published that step
-//! ([`super::barrier::Progress`], the team's plan in `cpu/plan.rs`) or after both have passed a
-//! barrier ([`super::barrier::SpinBarrier`]). An array is read whole only in a phase in which
-//! no thread writes it (the substep-start positions during the sweeps). The same file holds
-//! [`Prechecked`], the positions the sweeps' lean kernels read and write without a bounds check
-//! once the sweep has checked its family's particle indices.
+//! [`SharedPositions`] is a raw view that every thread of a team ([`super::cpu`]'s `team`) holds a
+//! copy of. Making one is `unsafe`: the team promises the rules below, which make each access
+//! through a copy sound.
+//! 1. **Disjoint writes.** Within a step, the threads write disjoint sets of indices: within a
+//!    color group no two elements share a particle ([`crate::coloring`], checked by its tests and
+//!    by [`crate::coloring::Coloring::validate`]; a family whose groups were not checked disjoint
+//!    runs on one thread), each thread takes a disjoint range of the group's elements and so of
+//!    their multipliers ([`super::barrier::share`]), and disjoint ranges of the particles in the
+//!    per-particle passes.
+//! 2. **Ordered steps.** An index that two threads touch in different steps is touched by the
+//!    later one only after the earlier one has published that step ([`super::barrier::Progress`],
+//!    the team's plan in `cpu/plan.rs`) or after both have passed a barrier
+//!    ([`super::barrier::SpinBarrier`]); both publish with release and wait with acquire, so the
+//!    writes happen before the reads.
+//! 3. **No reference over another thread's writes.** A shared slice (`&[V]`) covers only indices
+//!    that no thread writes while it lives: [`SharedPositions::read_range`] a range this thread's
+//!    step owns, [`SharedPositions::read_all`] a whole array only in a phase between two barriers
+//!    in which no thread writes that array (the local mode's snapshots, Jacobi's positions and
+//!    corrections, the work rows at the frame's end). Everything else is read element by element
+//!    ([`Positions::get`]), which creates no reference.
+//!
+//! The team's tests run under Miri (`solver::cpu::team_tests`; README, "Threads"), which checks the
+//! accesses for data races and aliasing. The same file holds [`Prechecked`], the positions the
+//! sweeps' lean kernels read and write without a bounds check once the sweep has checked its
+//! family's particle indices.
 #![allow(unsafe_code)]
 
 use std::marker::PhantomData;
@@ -28,33 +41,52 @@ pub(crate) struct SharedPositions<'a, V> {
     _borrow: PhantomData<&'a mut [V]>,
 }
 
-// SAFETY: workers only touch the particles of their own elements, disjoint within a color group.
+// SAFETY: the view is a pointer into a `&mut [V]` borrowed for `'a`; sending a copy to another
+// thread is sound because every access through it follows the rules its constructor's caller
+// promised (module documentation): disjoint writes, ordered steps, no reference over writes.
 unsafe impl<V: Send> Send for SharedPositions<'_, V> {}
-// SAFETY: as above; no index is read by one worker while another writes it.
+// SAFETY: as for `Send`; `&self` methods only read, under the same rules.
 unsafe impl<V: Send> Sync for SharedPositions<'_, V> {}
 
 impl<'a, V> SharedPositions<'a, V> {
     /// Shares `x` for the duration of the borrow.
-    pub fn new(x: &'a mut [V]) -> Self {
+    ///
+    /// # Safety
+    /// While the view or any copy of it lives, every access through them follows the module
+    /// documentation's three rules: no index is written by one thread while another thread reads
+    /// or writes it unless a published step or a barrier orders the two, and no slice returned by
+    /// [`SharedPositions::read_range`], [`SharedPositions::read_all`] or
+    /// [`SharedPositions::range_mut`] covers an index another thread writes while it lives.
+    pub unsafe fn new(x: &'a mut [V]) -> Self {
         SharedPositions { ptr: x.as_mut_ptr(), len: x.len(), _borrow: PhantomData }
     }
 }
 
 impl<V> SharedPositions<'_, V> {
     /// The elements `range` as a slice of their own, for the one worker that owns that range in
-    /// the current group (no other worker's range overlaps it; module docs).
+    /// the current step (rule 1: no other worker reads or writes it until the step is published).
     pub fn range_mut(&mut self, range: std::ops::Range<usize>) -> &mut [V] {
         assert!(range.start <= range.end && range.end <= self.len, "range {range:?} out of 0..{}", self.len);
-        // SAFETY: in bounds (checked above); the range is this worker's alone until the barrier.
+        // SAFETY: in bounds (checked above), inside the live `&mut [V]` of the constructor; the
+        // range is this worker's alone while the slice lives (the constructor's contract, rule 1).
         unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.len()) }
     }
 }
 
 impl<V> SharedPositions<'_, V> {
-    /// The whole array for reading, in a phase in which no worker writes it (module docs).
+    /// The elements `range` for reading: a range no thread writes while the slice lives (rule 3;
+    /// this thread's own range of a per-particle step, or one whose writers have published).
+    pub fn read_range(&self, range: std::ops::Range<usize>) -> &[V] {
+        assert!(range.start <= range.end && range.end <= self.len, "range {range:?} out of 0..{}", self.len);
+        // SAFETY: in bounds (checked above), inside the live `&mut [V]` of the constructor; no
+        // thread writes the range while the slice lives (the constructor's contract, rule 3).
+        unsafe { std::slice::from_raw_parts(self.ptr.add(range.start), range.len()) }
+    }
+
+    /// The whole array for reading, in a phase between two barriers in which no thread writes it
+    /// (rule 3).
     pub fn read_all(&self) -> &[V] {
-        // SAFETY: the pointer and length come from a live `&mut [V]`; nothing writes it meanwhile.
-        unsafe { std::slice::from_raw_parts(self.ptr, self.len) }
+        self.read_range(0..self.len)
     }
 
     /// Number of items.
@@ -69,7 +101,8 @@ impl<V: Copy> Positions<V> for SharedPositions<'_, V> {
         if i >= self.len {
             out_of_range(i, self.len);
         }
-        // SAFETY: in bounds (checked above); no other worker writes index `i` (module docs).
+        // SAFETY: in bounds (checked above); a read of one element, creating no reference, that
+        // no other thread's write to `i` races with (the constructor's contract, rules 1 and 2).
         unsafe { *self.ptr.add(i) }
     }
 
@@ -78,7 +111,8 @@ impl<V: Copy> Positions<V> for SharedPositions<'_, V> {
         if i >= self.len {
             out_of_range(i, self.len);
         }
-        // SAFETY: in bounds (checked above); only this worker touches index `i` (module docs).
+        // SAFETY: in bounds (checked above); only this worker touches index `i` in this step
+        // (the constructor's contract, rules 1 and 2).
         unsafe { *self.ptr.add(i) = v }
     }
 }
@@ -164,7 +198,8 @@ mod tests {
     #[test]
     fn reads_and_writes_in_bounds() {
         let mut x = [1.0f32, 2.0, 3.0];
-        let mut s = SharedPositions::new(&mut x);
+        // SAFETY: one thread, no slice held across a write.
+        let mut s = unsafe { SharedPositions::new(&mut x) };
         s.set(2, s.get(0) + s.get(1) + 7.0);
         assert_eq!(s.read_all(), &[1.0, 2.0, 10.0]);
         s.set(0, 5.0);
@@ -175,7 +210,8 @@ mod tests {
     #[should_panic(expected = "particle index 3 out of range 0..3")]
     fn an_index_past_the_end_panics() {
         let mut x = [0.0f32; 3];
-        let s = SharedPositions::new(&mut x);
+        // SAFETY: one thread.
+        let s = unsafe { SharedPositions::new(&mut x) };
         let _ = s.get(3);
     }
 }

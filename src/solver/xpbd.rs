@@ -1,6 +1,6 @@
 //! The XPBD multiplier update (Macklin et al. 2016), shared by every family and method.
 
-use crate::constraints::{Element, Form, gather};
+use crate::constraints::{Element, Form, Positions, gather};
 use crate::math::prelude::*;
 
 /// Constants of one substep.
@@ -67,15 +67,16 @@ pub fn delta_lambda<S: Real>(
 
 /// One element's update, computed from gathered positions `xs` and inverse masses `ws`:
 /// the gradient and `Δλ` (times the over-relaxation `ω`, before any Jacobi scale), or `None`
-/// when it is skipped this iteration. `adjust` may replace the constraint value (the local
+/// when it is skipped this iteration. `x_prev` holds the substep's start positions, read by
+/// particle index for the constraint damping only. `adjust` may replace the constraint value (the local
 /// energy-aware mode); it receives `C` and `α` and returns the value to use.
 #[inline(always)]
-pub(crate) fn solve_element<E: Element<N>, V: Vector, const N: usize>(
+pub(crate) fn solve_element<E: Element<N>, V: Vector, Q: Positions<V> + ?Sized, const N: usize>(
     e: &E,
     params: &E::Params,
     xs: &[V; N],
     ws: &[V::S; N],
-    x_prev: &[V],
+    x_prev: &Q,
     lambda: V::S,
     k: &StepConstants<V::S>,
     adjust: impl FnOnce(V::S, V::S) -> V::S,
@@ -92,7 +93,7 @@ pub(crate) fn solve_element<E: Element<N>, V: Vector, const N: usize>(
         let idx = e.particles();
         let mut gdx = V::S::zero();
         for n in 0..N {
-            gdx += proj.grad[n].dot(xs[n] - x_prev[idx[n] as usize]);
+            gdx += proj.grad[n].dot(xs[n] - x_prev.get(idx[n] as usize));
         }
         (gamma, gdx)
     } else {

@@ -120,9 +120,6 @@ pub struct Plan {
     pub cases: Vec<Case>,
     /// Repetitions of each coloring case (the best is kept).
     pub coloring_reps: u32,
-    /// The host check's frames per solver and rounds (`host::check`), before the CPU timings and
-    /// after them.
-    pub host_check: (usize, usize),
 }
 
 impl Plan {
@@ -136,7 +133,6 @@ impl Plan {
             splits: SPLITS.to_vec(),
             cases: cases(&[29, 41, 64, 128, 256, 410]),
             coloring_reps: 5,
-            host_check: (30, 3),
         }
     }
 
@@ -150,7 +146,6 @@ impl Plan {
             splits: vec![(30, 1), (5, 6), (1, 30)],
             cases: cases(&[29, 128]),
             coloring_reps: 1,
-            host_check: (5, 1),
         }
     }
 

@@ -7,7 +7,6 @@
 
 mod cases;
 mod coloring;
-mod host;
 mod measure;
 mod output;
 mod peer;
@@ -51,11 +50,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     }
 
     // Every CPU measurement first, the GPU last: lavapipe runs its work on worker threads of
-    // its own on the same cores, and a CPU team measured next to them pays for it. The host
-    // check on either side of them says what the host gave the two cores meanwhile.
-    bar.set_message("host check");
-    let peer = scene::build("cloth", &cases::peer_options())?;
-    let host_before = host::check(&peer, plan.host_check.0, plan.host_check.1);
+    // its own on the same cores, and a CPU team measured next to them pays for it.
     let mut rows = Vec::new();
     let mut scenes = Vec::with_capacity(plan.cases.len());
     for (c, case) in plan.cases.iter().enumerate() {
@@ -79,8 +74,6 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
         splits.extend(peer::run_split(iterations, substeps, &[Backend::CpuSingle, Backend::CpuAll], plan.peer_frames)?);
         bar.inc(2);
     }
-    bar.set_message("host check");
-    let host_after = host::check(&peer, plan.host_check.0, plan.host_check.1);
 
     let gpu = if a.cpu_only {
         None
@@ -117,10 +110,9 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     let command = if plan.quick { "eapbd bench --quick" } else { "eapbd bench" };
     let header = format!(
         "# Benchmarks ({})\n\nCommand: `cargo run --release -- {}`. {threads} CPU threads available; GPU adapter: {gpu_name}. \
-         f32, dt = 1/60 s, Gauss-Seidel over color groups unless stated.\n\n{}",
+         f32, dt = 1/60 s, Gauss-Seidel over color groups unless stated.\n\n",
         if plan.quick { "quick run" } else { "full run" },
         command.trim_start_matches("eapbd "),
-        host::line(host_before, host_after)
     );
     let results = Results {
         header,

@@ -5,7 +5,6 @@ use std::path::Path;
 
 use super::cases::{Backend, PEER_BENDING, PEER_RESOLUTION, PEER_STIFFNESS};
 use super::coloring::ColoringRow;
-use super::host;
 use super::measure::Row;
 use super::peer::{Split, most_accurate};
 use super::scaling::ScalePoint;
@@ -126,8 +125,8 @@ pub fn memory_table(rows: &[Row]) -> String {
 /// The peer scene's splits, one line per split with both CPU backends.
 pub fn peer_table(splits: &[Split]) -> String {
     let mut s = String::from(
-        "| iterations × substeps | ms/frame, 1 thread (mean, median) | ms/frame, all threads (mean, median) | all threads: time waiting | grid stretch | all-edge stretch | host check after |\n\
-         |---|---|---|---|---|---|---|\n",
+        "| iterations × substeps | ms/frame, 1 thread (mean, median) | ms/frame, all threads (mean, median) | all threads: time waiting | grid stretch | all-edge stretch |\n\
+         |---|---|---|---|---|---|\n",
     );
     let mut seen: Vec<(u32, u32)> = Vec::new();
     for sp in splits {
@@ -140,7 +139,7 @@ pub fn peer_table(splits: &[Split]) -> String {
         let single = of(Backend::CpuSingle).unwrap_or(sp);
         let _ = writeln!(
             s,
-            "| {} × {} | {} | {} | {} | {:.4} | {:.4} | {} |",
+            "| {} × {} | {} | {} | {} | {:.4} | {:.4} |",
             sp.iterations,
             sp.substeps,
             of(Backend::CpuSingle).map_or("–".into(), mean_median),
@@ -148,7 +147,6 @@ pub fn peer_table(splits: &[Split]) -> String {
             of(Backend::CpuAll).and_then(|x| x.team_wait).map_or("–".into(), |w| format!("{:.0} %", 100.0 * w)),
             single.stretch_grid,
             single.stretch_all,
-            sp.host.map_or("–".into(), |h| format!("{:.2}×, {}", h.pair_speedup(), host::trip(h.round_trip_ns)))
         );
     }
     s
@@ -242,10 +240,7 @@ pub fn markdown(r: &Results) -> String {
          the median is not moved by the odd frame in which the host takes a core away), the share of the threads' time that the team \
          spent waiting for one another (at its barriers and before the parts of its color groups that touch \
          another thread's particles) in the timed frames, and the time-averaged mean relative stretch over \
-         every frame, over the grid edges (no diagonals) and over every spring edge; last, a short host check \
-         made right after the split (the work two solvers at once, one per core, did against one alone: 2× \
-         for two full cores, about 1× when the host gave the pair little more than one; and a cache line's \
-         round trip between the two cores).\n\n",
+         every frame, over the grid edges (no diagonals) and over every spring edge.\n\n",
         r.split_frames
     );
     s.push_str(&peer_table(&r.splits));
@@ -279,7 +274,7 @@ pub const BENCH_CSV_HEADER: &str = "label,scene,resolution,backend,method,form,i
 pub const SCALING_CSV_HEADER: &str =
     "resolution,particles,constraints,backend,ms_per_frame,ns_per_projection,ratio_to_smallest";
 /// The column names of `peer.csv`.
-pub const PEER_CSV_HEADER: &str = "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges,median_ms_per_frame,team_wait_fraction,host_pair_speedup,host_round_trip_ns";
+pub const PEER_CSV_HEADER: &str = "iterations,substeps,backend,frames,mean_ms_per_frame,stretch_grid,stretch_all_edges,median_ms_per_frame,team_wait_fraction";
 
 /// Writes `bench.csv`, `scaling.csv` and `peer.csv` to `dir` (created if needed).
 pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
@@ -332,7 +327,7 @@ pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
     for p in &r.splits {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{:.6},{:.6},{:.6},{:.6},{},{},{}",
+            "{},{},{},{},{:.6},{:.6},{:.6},{:.6},{}",
             p.iterations,
             p.substeps,
             p.backend.name(),
@@ -342,8 +337,6 @@ pub fn write_files(dir: &Path, r: &Results) -> eapbd::Result<()> {
             p.stretch_all,
             p.median_ms,
             p.team_wait.map_or(String::new(), |w| format!("{w:.4}")),
-            p.host.map_or(String::new(), |h| format!("{:.3}", h.pair_speedup())),
-            p.host.map_or(String::new(), |h| format!("{:.0}", h.round_trip_ns))
         );
     }
     write(dir, "peer.csv", &csv)
@@ -366,7 +359,6 @@ mod tests {
             stretch_grid: stretch,
             stretch_all: stretch,
             team_wait,
-            host: Some(host::HostCheck { alone_ms: 3.0, together_ms: 4.0, round_trip_ns: 140.0 }),
         }
     }
 
@@ -379,10 +371,7 @@ mod tests {
             split(1, 30, Backend::CpuAll, 6.5, 4.25, 0.0065),
         ];
         let table = peer_table(&splits);
-        assert!(
-            table.contains("| 30 × 1 | 7.500, 7.000 | 5.500, 4.500 | 12 % | 0.0880 | 0.0880 | 1.50×, 140 ns |"),
-            "{table}"
-        );
+        assert!(table.contains("| 30 × 1 | 7.500, 7.000 | 5.500, 4.500 | 12 % | 0.0880 | 0.0880 |"), "{table}");
         assert!(table.contains("| 1 × 30 | 7.250, 6.750 | 6.500, 4.250 | 12 % | 0.0065 |"), "{table}");
         let line = most_accurate_line(&splits);
         assert!(line.starts_with("Most accurate split: 1 × 30 (grid stretch 0.0065;"), "{line}");

@@ -9,7 +9,6 @@ use eapbd::solver::{CpuSolver, Settings};
 use glam::Vec3A;
 
 use super::cases::{Backend, peer_options};
-use super::host;
 use super::timing::{BLOCK_FRAMES, TURN_WARM_FRAMES, median};
 
 /// One split of the peer scene on one CPU backend.
@@ -37,18 +36,11 @@ pub struct Split {
     /// The fraction of the team's thread time spent waiting for one another in the timed frames
     /// ([`eapbd::solver::TeamTime::wait_fraction`]); `None` where no timed frame ran on the team.
     pub team_wait: Option<f64>,
-    /// The host check made right after the split's turns (its [`host::HostCheck::pair_speedup`]
-    /// is 2 for two full cores, about 1 when the host gave the pair little more than one);
-    /// `None` with fewer than two cores.
-    pub host: Option<host::HostCheck>,
 }
-
-/// Frames per solver of the host check after each split (one round).
-const HOST_FRAMES: usize = 30;
 
 /// Simulates the peer scene for `frames` frames at `iterations × substeps` on each of
 /// `backends`, [`BLOCK_FRAMES`] frames each in turn (so a change in the machine's speed falls on
-/// all alike), then makes a short host check; one split per backend, in order. Every frame
+/// all alike); one split per backend, in order. Every frame
 /// counts in the stretch; the first
 /// [`TURN_WARM_FRAMES`] of each turn are not timed, as in the bench's other interleaved timings: a
 /// team whose second core sat idle during the other backend's turn starts slowly, and the first
@@ -70,7 +62,6 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
                 stretch_grid: 0.0,
                 stretch_all: 0.0,
                 team_wait: None,
-                host: None,
             };
             let team = TeamSums::default();
             (CpuSolver::<Vec3A>::new(scene.clone()), s, split, Vec::with_capacity(frames as usize), team)
@@ -99,13 +90,11 @@ pub fn run_split(iterations: u32, substeps: u32, backends: &[Backend], frames: u
             }
         }
     }
-    let host = host::check(&scene, HOST_FRAMES, 1);
     let n = frames.max(1) as f64;
     Ok(runs
         .into_iter()
         .map(|(_, _, s, mut times, team)| Split {
             team_wait: team.wait_fraction(),
-            host,
             mean_ms: times.iter().sum::<f64>() / times.len().max(1) as f64,
             median_ms: median(&mut times),
             stretch_grid: s.stretch_grid / n,

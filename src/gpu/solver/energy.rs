@@ -48,10 +48,7 @@ impl GpuSolver {
         pass.set_pipeline(&k.particles);
         pass.dispatch_workgroups(reduce_groups(self.n), 1, 1);
         for (f, fk) in families {
-            pass.set_pipeline(&fk.energy);
-            pass.set_bind_group(1, &f.bind_group, &[]);
-            pass.set_bind_group(2, &self.range_bind_group, &[f.all_offset]);
-            pass.dispatch_workgroups(reduce_groups(f.len), 1, 1);
+            self.dispatch_family(pass, &fk.energy, f, None, reduce_groups(f.len));
         }
         pass.set_pipeline(&k.total);
         pass.set_bind_group(2, &self.range_bind_group, &[self.total_offsets[mode]]);

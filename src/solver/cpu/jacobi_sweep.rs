@@ -17,10 +17,9 @@ impl<V: Vector> CpuSolver<V> {
             return;
         }
         self.jacobi_omega = Some(omega);
-        let count = scales::constraint_counts(&self.scene);
-        let omega: V::S = omega.into();
-        crate::for_each_family!(self.scene, |i, f| self.fam[i].jacobi_scale =
-            scales::scales(&f.elements, &count, omega));
+        for (st, s) in self.fam.iter_mut().zip(scales::family_scales(&self.scene, omega.into())) {
+            st.jacobi_scale = s;
+        }
         self.dx = vec![V::ZERO; self.particles.len()];
     }
 

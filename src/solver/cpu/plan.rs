@@ -58,8 +58,6 @@ pub(super) struct Plan {
     /// The finish pass's parts (`[t]`: thread `t`'s block of particles, its boundary aligned to
     /// whole [`WORK_BLOCK`]s), for substeps chained without a barrier (`cpu/team.rs`).
     pub finish: Vec<Part>,
-    /// Steps of one iteration that wait for other threads: color groups and the contact pass.
-    pub steps: usize,
     /// The threads' finished steps during a frame.
     pub progress: Progress,
 }
@@ -107,11 +105,9 @@ impl Plan {
             }
         }
         let shared = |p: usize| touched[p].count_ones() > 1;
-        let mut steps = 0;
         crate::for_each_family!(scene, |i, f| {
             if let FamilyPlan::Split(parts) = &mut families[i] {
                 *parts = split_parts(f, threads, shared);
-                steps += f.colors.len();
             }
         });
         // Thread `t`'s block of particles, its boundary aligned to `align` particles.
@@ -125,12 +121,9 @@ impl Plan {
                 .collect()
         };
         // The contact pass's parts in whole blocks too: each block's sum of work in one visit.
-        let contacts = contacts.then(|| {
-            steps += 1;
-            particle_parts(WORK_BLOCK)
-        });
+        let contacts = contacts.then(|| particle_parts(WORK_BLOCK));
         let finish = particle_parts(WORK_BLOCK);
-        Plan { threads, families, contacts, finish, steps, progress: Progress::new(threads) }
+        Plan { threads, families, contacts, finish, progress: Progress::new(threads) }
     }
 }
 
@@ -220,7 +213,7 @@ mod tests {
                     }
                 }
             }
-            assert!(plan.steps > bends.colors.len());
+            assert_eq!(parts.len(), bends.colors.len() * threads, "a part per group and thread");
             // The finish pass's parts: every thread's block of particles, the boundary in whole
             // work blocks and holding every particle another thread touches in a sweep.
             for (t, part) in plan.finish.iter().enumerate() {

@@ -10,15 +10,16 @@ use super::CpuSolver;
 /// What the projection needs from before a frame.
 #[derive(Clone, Copy, Debug)]
 pub(super) struct BeforeFrame {
-    /// The budget (J), `None` before the first step (the budget then starts after it).
-    budget: Option<f64>,
+    /// The budget starts before the frame ([`crate::solver::stages::Stage::ProjectionStart`]).
+    pub start: bool,
     /// The work of physical dissipation until then (J).
-    dissipated: f64,
+    pub dissipated: f64,
 }
 
 impl<V: Vector> CpuSolver<V> {
-    /// Before a frame under `s`: drops the budget when the projection is off, starts it when it
-    /// is switched on after a step, and notes what [`CpuSolver::after_frame`] needs.
+    /// Before a frame under `s`: drops the budget when the projection is off or the settings
+    /// changed, says whether it starts before the frame (the projection switched on after a step),
+    /// and notes what [`CpuSolver::after_frame`] needs.
     pub(super) fn before_projection(&mut self, s: &Settings) -> Option<BeforeFrame> {
         if s.energy_aware != EnergyAware::Project {
             self.ledger.budget = None;
@@ -28,20 +29,21 @@ impl<V: Vector> CpuSolver<V> {
         // Other settings measure the held energy with other multipliers: start again after the
         // frame (the thread count changes nothing).
         let settings = Settings { threads: 0, ..*s };
-        if self.ledger.projected_with.is_some_and(|p| p != settings) {
+        let changed = self.ledger.projected_with.is_some_and(|p| p != settings);
+        if changed {
             self.ledger.budget = None;
-        } else if self.ledger.budget.is_none() && self.last.is_some() {
-            self.start_budget();
         }
         self.ledger.projected_with = Some(settings);
-        Some(BeforeFrame { budget: self.ledger.budget, dissipated: self.ledger.dissipated })
+        let start = !changed && self.ledger.budget.is_none() && self.last.is_some();
+        Some(BeforeFrame { start, dissipated: self.ledger.dissipated })
     }
 
     /// After a frame: the projection towards the budget plus the frame's dissipated work, or the
     /// budget's start after the first step.
-    pub(super) fn after_frame(&mut self, before: BeforeFrame) {
-        match before.budget {
-            Some(budget) => self.project(budget + (self.ledger.dissipated - before.dissipated)),
+    pub(super) fn after_frame(&mut self) {
+        let before = self.dissipated_before.unwrap_or(self.ledger.dissipated);
+        match self.ledger.budget {
+            Some(budget) => self.project(budget + (self.ledger.dissipated - before)),
             None => self.start_budget(),
         }
     }
@@ -69,7 +71,7 @@ impl<V: Vector> CpuSolver<V> {
 
     /// Starts the projection's budget from the current state: its energy and, for an isolated
     /// body, its momenta ([`projection::conserved_momenta`]).
-    fn start_budget(&mut self) {
+    pub(super) fn start_budget(&mut self) {
         self.ledger.budget = Some(self.held_energy());
         let p = &self.particles;
         self.ledger.momenta = projection::conserved_momenta(&self.scene, &p.x, &p.v, &p.w);

@@ -1,5 +1,5 @@
-//! The frame on several threads: every thread of the solver's pool runs the whole substep loop as
-//! one team. Each takes its share of the particles in the per-particle passes and of each large
+//! The frame on several threads: every thread of the solver's pool runs the frame's substeps, the
+//! stage list of [`crate::solver::stages`], as one team. Each takes its share of the particles in the per-particle passes and of each large
 //! color group in the sweeps, so one frame costs one wake-up of the pool instead of a fork and
 //! join per group. A thread waits for the others only before the part of its share that touches
 //! particles another thread touches too ([`Plan`]), so a thread that is ahead goes on with the
@@ -29,12 +29,13 @@ use super::super::energy::EnergyAware;
 use super::super::jacobi;
 use super::super::particles::{self, FinishStep, WORK_BLOCK};
 use super::super::shared::{Prechecked, SharedPositions};
+use super::super::stages::{self, Stage};
 use super::super::xpbd::StepConstants;
 use super::super::{Method, PARALLEL_MIN_GROUP, Settings};
 use super::plan::{FamilyPlan, Part, Plan, particle_share};
 use super::{
     CpuSolver, FamilyState, JacobiAt, LocalCtx, balance, checked_bound, fuses_predict, jacobi_element, local_adjusted,
-    plain_chunk, start_energies, total_energy, update,
+    plain_chunk, start_energies, update,
 };
 use crate::constraints::{Element, LaneData};
 
@@ -81,6 +82,8 @@ struct Member<'a> {
     waited: Cell<Duration>,
     /// The part of `waited` spent at the barrier.
     at_barrier: Cell<Duration>,
+    /// This thread's waits (barriers and steps) in the frame.
+    waits: Cell<usize>,
 }
 
 impl<V: Vector> CpuSolver<V> {
@@ -91,9 +94,11 @@ impl<V: Vector> CpuSolver<V> {
         rayon::current_thread_index().is_some() && rayon::current_num_threads() > 1 && self.splittable
     }
 
-    /// The frame's substeps on every thread of the current pool (see the module documentation);
-    /// returns `true` when the threads slept at many waits (the cores may be busy).
-    pub(super) fn team_substeps(&mut self, s: &Settings, k: &StepConstants<V::S>) -> bool {
+    /// The frame's substeps (`frame`: their stages, [`stages`]) on every thread of the current
+    /// pool (see the module documentation); returns `true` when the threads slept at many waits
+    /// (the cores may be busy).
+    #[allow(unsafe_code)]
+    pub(super) fn team_substeps(&mut self, frame: &[Stage], s: &Settings, k: &StepConstants<V::S>) -> bool {
         let threads = rayon::current_num_threads();
         if self.plan.as_ref().is_none_or(|p| p.threads != threads) {
             let disjoint = self.fam.each_ref().map(|st| st.disjoint);
@@ -112,8 +117,8 @@ impl<V: Vector> CpuSolver<V> {
             self.jacobi_slots = Some((slots, corr));
         }
         let (slots, corr) = match self.jacobi_slots.as_mut().filter(|_| jacobi) {
-            Some((slots, corr)) => (Some(&*slots), SharedPositions::new(&mut corr[..])),
-            None => (None, SharedPositions::new(&mut [][..])),
+            Some((slots, corr)) => (Some(&*slots), &mut corr[..]),
+            None => (None, &mut [][..]),
         };
         let local = s.energy_aware == EnergyAware::Local;
         if local {
@@ -127,26 +132,35 @@ impl<V: Vector> CpuSolver<V> {
         let p = &mut self.particles;
         let w = &p.w[..];
         let bound = self.fam.each_ref().map(|st| st.bound);
-        let fam = self.fam.each_mut().map(|st| {
-            let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
-            (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..], &st.lanes)
-        });
-        let views = Views {
-            x: SharedPositions::new(&mut p.x),
-            x_prev: SharedPositions::new(&mut p.x_prev),
-            v: SharedPositions::new(&mut p.v),
-            work: SharedPositions::new(&mut self.team_work),
-            lambda: fam.map(|f| f.0),
-            local: self
-                .local
-                .as_mut()
-                .filter(|_| local)
-                .map(|l| [SharedPositions::new(&mut l.current), SharedPositions::new(&mut l.previous)]),
-            energy_start: fam.map(|f| f.1),
-            jacobi_scale: fam.map(|f| f.2),
-            corr,
-            lanes: fam.map(|f| f.3),
-            bound,
+        let snapshots = self.local.as_mut().filter(|_| local).map(|l| [&mut l.current, &mut l.previous]);
+        // SAFETY: the views are used only by the threads of the broadcast below, as the module
+        // documentation of `shared` requires: each thread writes the particles of its share of a
+        // per-particle pass (`particle_share`, `Plan::finish`, `Plan::contacts`: disjoint ranges)
+        // and of its parts of a color group (disjoint elements and, the groups checked disjoint,
+        // disjoint particles; families not checked run on thread 0 between barriers), and the
+        // multipliers of those elements; a step that touches what another thread's earlier step
+        // touched waits for it (`Member::step`, the plan's boundary parts) or for a barrier
+        // (`Member::meet`); slices cover only a thread's own range (`read_range`) or an array no
+        // thread writes until the next barrier (`read_all`: snapshots, start energies, Jacobi's
+        // positions and corrections, the work rows once every thread has finished its passes).
+        let views = unsafe {
+            let fam = self.fam.each_mut().map(|st| {
+                let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
+                (SharedPositions::new(lambda), SharedPositions::new(start), &st.jacobi_scale[..], &st.lanes)
+            });
+            Views {
+                x: SharedPositions::new(&mut p.x),
+                x_prev: SharedPositions::new(&mut p.x_prev),
+                v: SharedPositions::new(&mut p.v),
+                work: SharedPositions::new(&mut self.team_work),
+                lambda: fam.map(|f| f.0),
+                local: snapshots.map(|[c, p]| [SharedPositions::new(c), SharedPositions::new(p)]),
+                energy_start: fam.map(|f| f.1),
+                jacobi_scale: fam.map(|f| f.2),
+                corr: SharedPositions::new(corr),
+                lanes: fam.map(|f| f.3),
+                bound,
+            }
         };
         let (g, damping) = (V::from_vec3(scene.gravity), <V::S as From<f32>>::from(s.damping));
         // Thread 0's ledger; with the global balance it also computes the energies, alone.
@@ -177,66 +191,81 @@ impl<V: Vector> CpuSolver<V> {
                 slept: Cell::new(0),
                 waited: Cell::default(),
                 at_barrier: Cell::default(),
+                waits: Cell::new(0),
             };
             let mut v = views;
             let mine = particle_share(n, me.t, threads).0;
             let mut ledger = ledger;
             let mut step = 0;
-            for substep in 0..s.substeps as usize {
-                // The balance's starting energy: carried from the last substep, else measured.
-                let mut h0 = ledger.carried;
-                if global && substep == 0 && h0.is_none() {
-                    if me.t == 0 {
-                        h0 = Some(total_energy(scene, rest_com, v.x.read_all(), v.v.read_all(), w));
+            // The substep the stages belong to, and whether the last finish pass made the
+            // prediction that follows it.
+            let (mut substep, mut predicted) = (0usize, false);
+            for (i, &stage) in frame.iter().enumerate() {
+                // The local mode's context for family `f`: snapshots and start energies, which no
+                // thread writes while the sweeps run.
+                let ctx = |f: usize| {
+                    v.local.as_ref().map(|[current, previous]| LocalCtx {
+                        current: current.read_all(),
+                        previous: previous.read_all(),
+                        energy_start: v.energy_start[f].read_all(),
+                    })
+                };
+                match stage {
+                    Stage::Predict => {
+                        if i > 0 {
+                            substep += 1;
+                        }
+                        if !std::mem::take(&mut predicted) {
+                            let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
+                            particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
+                        }
                     }
-                    me.meet();
-                }
-                if !fuse || substep == 0 {
-                    let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
-                    particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
-                }
-                for (lambda, family) in v.lambda.iter_mut().zip(&plan.families) {
-                    me.zero_own(lambda, family);
-                }
-                if !chained || substep == 0 {
-                    me.meet();
-                }
-                if let Some([current, previous]) = &mut v.local {
-                    // The local mode's snapshots and start energies, each thread its share.
-                    previous.range_mut(mine.clone()).copy_from_slice(&v.x_prev.read_all()[mine.clone()]);
-                    current.range_mut(mine.clone()).copy_from_slice(&v.x.read_all()[mine.clone()]);
-                    crate::for_each_family!(scene, |i, f| {
-                        let r = share(0..f.len(), me.t, threads, 1);
-                        let out = v.energy_start[i].range_mut(r.clone());
-                        start_energies(f, v.x_prev.read_all(), (k.form, k.energy_compliance), r, out)
-                    });
-                    me.meet();
-                }
-                for iteration in 0..s.iterations {
-                    if let Some([current, previous]) = &mut v.local
-                        && iteration > 0
-                    {
+                    Stage::Clear => {
+                        for (lambda, family) in v.lambda.iter_mut().zip(&plan.families) {
+                            me.zero_own(lambda, family);
+                        }
+                        if !chained || substep == 0 {
+                            me.meet();
+                        }
+                    }
+                    Stage::LocalBegin => {
+                        let Some([current, previous]) = &mut v.local else { continue };
+                        // The local mode's snapshots and start energies, each thread its share.
+                        previous.range_mut(mine.clone()).copy_from_slice(v.x_prev.read_range(mine.clone()));
+                        current.range_mut(mine.clone()).copy_from_slice(v.x.read_range(mine.clone()));
+                        crate::for_each_family!(scene, |f_i, f| {
+                            let r = share(0..f.len(), me.t, threads, 1);
+                            let out = v.energy_start[f_i].range_mut(r.clone());
+                            start_energies(f, v.x_prev.read_all(), (k.form, k.energy_compliance), r, out)
+                        });
+                        me.meet();
+                    }
+                    Stage::LocalSnapshot => {
+                        let Some([current, previous]) = &mut v.local else { continue };
                         me.meet();
                         std::mem::swap(current, previous);
-                        current.range_mut(mine.clone()).copy_from_slice(&v.x.read_all()[mine.clone()]);
+                        current.range_mut(mine.clone()).copy_from_slice(v.x.read_range(mine.clone()));
                         me.meet();
                     }
-                    let ctx = |i: usize| {
-                        v.local.as_ref().map(|[current, previous]| LocalCtx {
-                            current: current.read_all(),
-                            previous: previous.read_all(),
-                            energy_start: v.energy_start[i].read_all(),
-                        })
-                    };
-                    if let Some(slots) = slots {
-                        // Jacobi: each thread its share of every family's corrections, then of the
+                    Stage::Sweep { family: f_i, color } => crate::with_family!(scene, f_i, |f| {
+                        // Read particle by particle: the other threads' finish passes of the
+                        // previous substep may still write theirs (chained substeps).
+                        let x_prev = &v.x_prev;
+                        let family = &plan.families[f_i];
+                        let how = Sweep { plain, bound: v.bound[f_i], local: ctx(f_i) };
+                        let w = (w, v.lanes[f_i]);
+                        team_group(f, color, v.lambda[f_i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
+                    }),
+                    Stage::Jacobi => {
+                        let Some(slots) = slots else { continue };
+                        // Each thread its share of every family's corrections, then of the
                         // particles' sums, in the one-thread order ([`jacobi::Slots`]).
                         let at = JacobiAt { x: v.x.read_all(), x_prev: v.x_prev.read_all(), w, k };
-                        crate::for_each_family!(scene, |i, f| {
+                        crate::for_each_family!(scene, |f_i, f| {
                             let r = share(0..f.len(), me.t, threads, 1);
-                            let (lambda, scale) = (v.lambda[i].range_mut(r.clone()), v.jacobi_scale[i]);
-                            let corr = (&mut v.corr, slots.base[i]);
-                            jacobi_share(f, r, lambda, scale, at, ctx(i).as_ref(), corr)
+                            let (lambda, scale) = (v.lambda[f_i].range_mut(r.clone()), v.jacobi_scale[f_i]);
+                            let corr = (&mut v.corr, slots.base[f_i]);
+                            jacobi_share(f, r, lambda, scale, at, ctx(f_i).as_ref(), corr)
                         });
                         me.meet();
                         let corr = v.corr.read_all();
@@ -247,101 +276,86 @@ impl<V: Vector> CpuSolver<V> {
                             }
                             *x += d;
                         }
-                        if s.contacts_in_loop(iteration) {
-                            let x_prev = &v.x_prev.read_all()[mine.clone()];
-                            let work = v.work.range_mut(work_blocks(substep, mine.clone()));
-                            let vel = &*v.v.range_mut(mine.clone());
-                            project_range(
-                                scene,
-                                v.x.range_mut(mine.clone()),
-                                x_prev,
-                                vel,
-                                &w[mine.clone()],
-                                inv_h,
-                                work,
-                            );
-                            me.meet();
-                        }
-                        continue;
                     }
-                    crate::for_each_family!(scene, |i, f| {
-                        let x_prev = v.x_prev.read_all();
-                        let family = &plan.families[i];
-                        let how = Sweep { plain, bound: v.bound[i], local: ctx(i) };
-                        let w = (w, v.lanes[i]);
-                        team_sweep(f, v.lambda[i], &mut v.x, x_prev, w, k, &me, family, &mut step, how)
-                    });
-                    if let Some(parts) = plan.contacts.as_ref().filter(|_| s.contacts_in_loop(iteration)) {
-                        let x_prev = v.x_prev.read_all();
+                    // Jacobi's: each thread its particles, then the team meets before the next
+                    // iteration reads every position.
+                    Stage::Contacts if jacobi => {
+                        let x_prev = v.x_prev.read_range(mine.clone());
+                        let work = v.work.range_mut(work_blocks(substep, mine.clone()));
+                        let vel = &*v.v.range_mut(mine.clone());
+                        project_range(scene, v.x.range_mut(mine.clone()), x_prev, vel, &w[mine.clone()], inv_h, work);
+                        me.meet();
+                    }
+                    Stage::Contacts => {
+                        let Some(parts) = plan.contacts.as_ref() else { continue };
                         me.step(&parts[me.t], &mut step, |r| {
                             let work = v.work.range_mut(work_blocks(substep, r.clone()));
                             let (x, vel) = (v.x.range_mut(r.clone()), &*v.v.range_mut(r.clone()));
-                            project_range(scene, x, &x_prev[r.clone()], vel, &w[r], inv_h, work)
+                            let x_prev = v.x_prev.read_range(r.clone());
+                            project_range(scene, x, x_prev, vel, &w[r], inv_h, work)
                         });
                     }
-                }
-                let last = substep + 1 == s.substeps as usize;
-                let next = (fuse && !last).then_some(g);
-                let finishing = FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish() };
-                // The finish pass over the particles `r` (whole blocks), its work in this
-                // substep's row.
-                let mut finish = |r: Range<usize>| {
-                    let work = v.work.range_mut(work_blocks(substep, r.clone()));
-                    let (x, x_prev, vel) =
-                        (v.x.range_mut(r.clone()), v.x_prev.range_mut(r.clone()), v.v.range_mut(r.clone()));
-                    particles::finish(scene, x, x_prev, vel, &w[r], finishing, work);
-                };
-                if chained {
-                    me.step(&plan.finish[me.t], &mut step, &mut finish);
-                } else {
-                    me.meet();
-                    finish(mine.clone());
-                }
-                if fuse && !last {
-                    // This thread predicted its particles for the next substep in the same pass.
-                    continue;
-                }
-                me.meet();
-                // Thread 0 adds the work rows in the one-thread order, once no thread writes
-                // them: with the global balance this substep's, which the balance needs before
-                // it scales the velocities while the others wait; otherwise the frame's, at its end.
-                if me.t == 0 && global {
-                    let work = row(v.work.read_all(), blocks, substep);
-                    ledger.dissipated += work;
-                    if let Some(h0) = h0 {
-                        let (x, vel) = (v.x.read_all(), v.v.range_mut(0..n));
-                        let (sigma, carried) = balance(scene, rest_com, x, vel, w, h0, work);
-                        (ledger.carried, ledger.last_scale) = (Some(carried), sigma);
+                    Stage::Finish => {
+                        predicted = stages::finish_predicts(frame, i);
+                        let next = predicted.then_some(g);
+                        let finishing = FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish() };
+                        // The finish pass over the particles `r` (whole blocks), its work in this
+                        // substep's row.
+                        let mut finish = |r: Range<usize>| {
+                            let work = v.work.range_mut(work_blocks(substep, r.clone()));
+                            let (x, x_prev, vel) =
+                                (v.x.range_mut(r.clone()), v.x_prev.range_mut(r.clone()), v.v.range_mut(r.clone()));
+                            particles::finish(scene, x, x_prev, vel, &w[r], finishing, work);
+                        };
+                        if chained {
+                            me.step(&plan.finish[me.t], &mut step, &mut finish);
+                        } else {
+                            me.meet();
+                            finish(mine.clone());
+                        }
                     }
-                } else if me.t == 0 {
+                    Stage::Balance => {
+                        // Thread 0 adds this substep's work row in the one-thread order once no
+                        // thread writes it, and scales the velocities while the others wait.
+                        me.meet();
+                        if me.t == 0 {
+                            let work = row(v.work.read_all(), blocks, substep);
+                            ledger.dissipated += work;
+                            if let Some(h0) = ledger.carried {
+                                let (x, vel) = (v.x.read_all(), v.v.range_mut(0..n));
+                                let (sigma, carried) = balance(scene, rest_com, x, vel, w, h0, work);
+                                (ledger.carried, ledger.last_scale) = (Some(carried), sigma);
+                            }
+                        }
+                        me.meet();
+                    }
+                    // The frame's stages before and after its substeps run on the calling thread.
+                    Stage::ProjectionStart | Stage::BalanceStart | Stage::Projection => {}
+                }
+            }
+            if !global {
+                // Thread 0 adds the frame's work rows in the one-thread order once no thread
+                // writes them.
+                me.meet();
+                if me.t == 0 {
                     for substep in 0..s.substeps as usize {
                         ledger.dissipated += row(v.work.read_all(), blocks, substep);
                     }
                 }
-                if global {
-                    me.meet();
-                }
             }
             let waited = me.waited.get();
-            (ledger, me.slept.get(), start.elapsed().saturating_sub(waited), waited, me.at_barrier.get())
+            (
+                ledger,
+                me.slept.get(),
+                start.elapsed().saturating_sub(waited),
+                waited,
+                me.at_barrier.get(),
+                me.waits.get(),
+            )
         });
         self.ledger = totals[0].0;
         self.team_time.add(totals.iter().map(|t| (t.2, t.3, t.4)));
-        let whole = plan.families.iter().filter(|f| **f == FamilyPlan::Whole).count();
-        let per_iteration = if jacobi { 2 } else { plan.steps + 2 * whole };
-        // The last iteration's contact pass runs in the finish pass, without a wait of its own.
-        let in_finish = if jacobi { 1 } else { plan.contacts.is_some() as usize } * s.contacts_in_finish() as usize;
-        let iterations = s.iterations as usize * per_iteration - in_finish;
-        let waits = threads
-            * match chained {
-                // The finish step each substep, and two barriers a frame.
-                true => s.substeps as usize * (iterations + 1) + 2,
-                false => {
-                    let per_substep =
-                        if fuse { 2 } else { 3 + global as usize } + 2 * local as usize * s.iterations as usize;
-                    s.substeps as usize * (per_substep + iterations) + fuse as usize
-                }
-            };
+        let waits: usize = totals.iter().map(|t| t.5).sum();
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
         slept * BUSY_FRACTION > waits
     }
@@ -373,6 +387,7 @@ impl Member<'_> {
     /// Waits at the team's barrier for the other threads.
     #[inline]
     fn meet(&self) {
+        self.waits.set(self.waits.get() + 1);
         let waited = self.barrier.wait();
         self.at_barrier.set(self.at_barrier.get() + waited.time);
         self.count(waited);
@@ -389,6 +404,7 @@ impl Member<'_> {
     #[inline]
     fn step(&self, part: &Part, step: &mut usize, mut run: impl FnMut(Range<usize>)) {
         let progress = &self.plan.progress;
+        self.waits.set(self.waits.get() + 1);
         if !part.boundary.is_empty() {
             let waited = progress.wait(self.t, *step);
             self.count(waited);
@@ -434,14 +450,16 @@ struct Sweep<'a, V: Vector> {
     local: Option<LocalCtx<'a, V>>,
 }
 
-/// One Gauss-Seidel sweep of family `f` by the team, one step per color group ([`Plan`]). A
-/// family whose groups were not checked disjoint runs whole on thread 0 between two barriers.
+/// Gauss-Seidel over color group `color` of family `f` by the team, one step per group
+/// ([`Plan`]). A family whose groups were not checked disjoint runs whole on thread 0, between a
+/// barrier before its first group and one after its last.
 #[allow(unsafe_code)]
-fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
+fn team_group<E: Element<N>, V: Vector, const N: usize>(
     f: &Family<E, N>,
+    color: usize,
     mut lambda: SharedPositions<'_, V::S>,
     x: &mut SharedPositions<'_, V>,
-    x_prev: &[V],
+    x_prev: &SharedPositions<'_, V>,
     (w, lanes): (&[V::S], &LaneData),
     k: &StepConstants<V::S>,
     me: &Member<'_>,
@@ -482,19 +500,18 @@ fn team_sweep<E: Element<N>, V: Vector, const N: usize>(
     match family {
         FamilyPlan::Absent => {}
         FamilyPlan::Whole => {
-            me.meet();
+            if color == 0 {
+                me.meet();
+            }
             if me.t == 0 {
-                for range in &f.colors {
-                    chunk(range.start as usize..range.end as usize, x);
-                }
+                let range = &f.colors[color];
+                chunk(range.start as usize..range.end as usize, x);
             }
-            me.meet();
-        }
-        FamilyPlan::Split(parts) => {
-            for g in 0..f.colors.len() {
-                me.step(&parts[g * me.threads + me.t], step, |r| chunk(r, x));
+            if color + 1 == f.colors.len() {
+                me.meet();
             }
         }
+        FamilyPlan::Split(parts) => me.step(&parts[color * me.threads + me.t], step, |r| chunk(r, x)),
     }
 }
 
