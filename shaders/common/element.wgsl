@@ -1,4 +1,5 @@
-// Kernels shared by the constraint families of ARITY particles (bending, tetrahedra, triangles).
+// Kernels shared by every constraint family, of ARITY particles (springs, bending, tetrahedra,
+// triangles).
 // Keep in sync with src/solver/cpu.rs and src/solver/xpbd.rs. The family's own file defines:
 //   const ARITY: u32;             particles per element
 //   const PARTIAL_FAMILY: u32;    its slot range in the energy reduction's partial sums

@@ -164,18 +164,12 @@ fn team_line(t: &eapbd::solver::TeamTime) -> Option<String> {
 
 fn families(scene: &eapbd::scene::Scene) -> String {
     let mut parts = Vec::new();
-    if let Some(f) = &scene.springs {
-        parts.push(format!("{} springs, {}", f.len(), f.stats));
-    }
-    if let Some(f) = &scene.bends {
-        parts.push(format!("{} bending, {}", f.len(), f.stats));
-    }
-    if let Some(f) = &scene.tets {
-        parts.push(format!("{} tetrahedra, {}", f.len(), f.stats));
-    }
-    if let Some(f) = &scene.membranes {
-        parts.push(format!("{} membrane triangles, {}", f.len(), f.stats));
-    }
+    eapbd::for_each_family!(scene, |i, f| parts.push(format!(
+        "{} {}, {}",
+        f.len(),
+        eapbd::scene::FAMILY_LABELS[i],
+        f.stats
+    )));
     if let Some(e) = &scene.embedding {
         parts.push(format!("embedded surface of {} vertices, {} triangles", e.bindings.len(), e.triangles.len()));
     }

@@ -97,6 +97,11 @@ impl Element<4> for Bend {
         self.p
     }
 
+    /// The hinge: the shared edge `x₀ → x₁`.
+    fn outline(&self) -> Vec<[u32; 2]> {
+        vec![[self.p[0], self.p[1]]]
+    }
+
     #[inline(always)]
     fn energy<V: Vector>(&self, _: &BendParams, x: &[V; 4]) -> V::S {
         let (theta, _) = dihedral(x);

@@ -65,6 +65,14 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
     /// Indices of the particles this element touches.
     fn particles(&self) -> [u32; N];
 
+    /// The pairs of particles a picture of the element joins (the viewer's color groups): every
+    /// pair unless the family says otherwise (a spring itself, a triangle's three edges, a
+    /// tetrahedron's six).
+    fn outline(&self) -> Vec<[u32; 2]> {
+        let p = self.particles();
+        (0..N).flat_map(|i| (i + 1..N).map(move |j| [p[i], p[j]])).collect()
+    }
+
     /// Material potential energy `E(x)` in joules.
     fn energy<V: Vector>(&self, p: &Self::Params, x: &[V; N]) -> V::S;
 

@@ -41,53 +41,48 @@ pub struct Kernels {
     families: [OnceLock<FamilyKernels>; crate::scene::FAMILY_COUNT],
 }
 
-/// The constraint families the GPU solver runs, in the CPU's order (`kind as usize` is the
-/// family's index in [`crate::for_each_family`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FamilyKind {
-    /// Springs.
-    Springs,
-    /// Dihedral bending.
-    Bending,
-    /// Tetrahedra.
-    Tets,
-    /// Anisotropic membrane triangles.
-    Membranes,
+/// Makes [`FamilyKind`] from [`crate::family_list`].
+macro_rules! family_kinds {
+    ((); $(($index:literal, $field:ident, $kind:ident, $doc:literal, $name:literal, $label:literal, $arity:literal, $source:ident)),* $(,)?) => {
+        /// The constraint families the GPU solver runs, in the CPU's order (`kind as usize` is
+        /// the family's index in [`crate::for_each_family`]), as [`crate::family_list`] declares
+        /// them.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum FamilyKind {
+            $(
+                #[doc = $doc]
+                $kind,
+            )*
+        }
+
+        impl FamilyKind {
+            /// Every family, in solve order.
+            pub const ALL: [FamilyKind; crate::scene::FAMILY_COUNT] = [$(FamilyKind::$kind),*];
+
+            /// The family's name (its WGSL module and buffer labels).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $(FamilyKind::$kind => $name,)*
+                }
+            }
+
+            /// Particles per element.
+            pub fn arity(self) -> u32 {
+                match self {
+                    $(FamilyKind::$kind => $arity,)*
+                }
+            }
+
+            fn source(self) -> &'static str {
+                match self {
+                    $(FamilyKind::$kind => shaders::$source,)*
+                }
+            }
+        }
+    };
 }
 
-impl FamilyKind {
-    /// Every family, in solve order.
-    pub const ALL: [FamilyKind; crate::scene::FAMILY_COUNT] =
-        [FamilyKind::Springs, FamilyKind::Bending, FamilyKind::Tets, FamilyKind::Membranes];
-
-    /// The family's name (its WGSL module and buffer labels).
-    pub fn name(self) -> &'static str {
-        match self {
-            FamilyKind::Springs => "springs",
-            FamilyKind::Bending => "bending",
-            FamilyKind::Tets => "tets",
-            FamilyKind::Membranes => "membranes",
-        }
-    }
-
-    /// Particles per element.
-    pub fn arity(self) -> u32 {
-        match self {
-            FamilyKind::Springs => 2,
-            FamilyKind::Membranes => 3,
-            FamilyKind::Bending | FamilyKind::Tets => 4,
-        }
-    }
-
-    fn source(self) -> &'static str {
-        match self {
-            FamilyKind::Springs => shaders::SPRINGS,
-            FamilyKind::Bending => shaders::BENDING,
-            FamilyKind::Tets => shaders::TETS,
-            FamilyKind::Membranes => shaders::MEMBRANES,
-        }
-    }
-}
+crate::family_list!([family_kinds]());
 
 /// Per-particle kernels of the local energy-aware mode.
 #[derive(Debug)]

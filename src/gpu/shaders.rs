@@ -1,10 +1,11 @@
 //! WGSL sources, composed from `shaders/common/` and one stage file each, embedded at build time.
 
-/// Springs: Gauss-Seidel, Jacobi and λ reset kernels.
+/// Springs: the shared element kernels with two particles.
 pub const SPRINGS: &str = concat!(
     include_str!("../../shaders/common/types.wgsl"),
     include_str!("../../shaders/common/family.wgsl"),
-    include_str!("../../shaders/solver/springs.wgsl")
+    include_str!("../../shaders/solver/springs.wgsl"),
+    include_str!("../../shaders/common/element.wgsl")
 );
 /// Dihedral bending kernels.
 pub const BENDING: &str = concat!(

@@ -9,32 +9,73 @@ pub use bunny::{Body, DEFAULT_LATTICE, HEIGHT as BUNNY_HEIGHT, PAPER_FACES, bunn
 pub use family::Family;
 pub use solid::DENSITY as SOLID_DENSITY;
 
+/// The constraint families, declared once, in solve order: each family's index, its field of
+/// [`Scene`] (an `Option<Family<Element, N>>`), its name in the GPU solver
+/// ([`crate::gpu::FamilyKind`]) with that variant's documentation, its name (the WGSL file
+/// `shaders/solver/NAME.wgsl` and its buffers' labels), its label for people (what the command
+/// line and the viewer print), its particles per element and its
+/// composed WGSL module ([`crate::gpu::shaders`]). [`for_each_family`], [`FAMILY_COUNT`] and
+/// [`crate::gpu::FamilyKind`] are made from this list; README, "Adding a constraint family".
+#[macro_export]
+#[doc(hidden)]
+macro_rules! family_list {
+    ([$($callback:tt)*] $args:tt) => {
+        $($callback)*! { $args;
+            (0, springs, Springs, "Springs.", "springs", "springs", 2, SPRINGS),
+            (1, bends, Bending, "Dihedral bending.", "bending", "bending", 4, BENDING),
+            (2, tets, Tets, "Tetrahedra.", "tets", "tetrahedra", 4, TETS),
+            (3, membranes, Membranes, "Anisotropic membrane triangles.", "membranes", "membrane triangles", 3, MEMBRANES),
+        }
+    };
+}
+
+/// [`family_list`]'s length.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! family_count {
+    ((); $(($i:literal, $($rest:tt)*)),* $(,)?) => {
+        [$($i),*].len()
+    };
+}
+
 /// Number of constraint families a scene may have.
-pub const FAMILY_COUNT: usize = 4;
+pub const FAMILY_COUNT: usize = family_list!([family_count]());
+
+/// [`family_list`]'s labels.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! family_labels {
+    ((); $(($i:literal, $field:ident, $kind:ident, $doc:literal, $name:literal, $label:literal, $($rest:tt)*)),* $(,)?) => {
+        [$($label),*]
+    };
+}
+
+/// Each family's label for people, by index ([`family_list`]): what the command line and the
+/// viewer print.
+pub const FAMILY_LABELS: [&str; FAMILY_COUNT] = family_list!([family_labels]());
 
 /// Evaluates `$body` once for each constraint family `$scene` has, in solve order (springs,
-/// bending, tetrahedra, membranes), with `$f` bound to the `&Family` and `$i` to the family's
-/// index (`0..FAMILY_COUNT`) in that order.
+/// bending, tetrahedra, membranes: [`family_list`]), with `$f` bound to the `&Family` and `$i` to
+/// the family's index (`0..FAMILY_COUNT`) in that order.
 #[macro_export]
 #[doc(hidden)]
 macro_rules! for_each_family {
-    ($scene:expr, |$i:ident, $f:ident| $body:expr) => {{
-        if let Some($f) = &$scene.springs {
-            let $i = 0usize;
-            $body;
-        }
-        if let Some($f) = &$scene.bends {
-            let $i = 1usize;
-            $body;
-        }
-        if let Some($f) = &$scene.tets {
-            let $i = 2usize;
-            $body;
-        }
-        if let Some($f) = &$scene.membranes {
-            let $i = 3usize;
-            $body;
-        }
+    ($scene:expr, |$i:ident, $f:ident| $body:expr) => {
+        $crate::family_list!([$crate::for_each_family_in]($scene, $i, $f, $body))
+    };
+}
+
+/// [`for_each_family`] over the list.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! for_each_family_in {
+    (($scene:expr, $i:ident, $f:ident, $body:expr); $(($index:literal, $field:ident, $($rest:tt)*)),* $(,)?) => {{
+        $(
+            if let Some($f) = &$scene.$field {
+                let $i: usize = $index;
+                $body;
+            }
+        )*
     }};
 }
 

@@ -47,18 +47,11 @@ pub struct GroupView {
     pub segment_colors: Vec<[f32; 3]>,
 }
 
-/// Every pair of an element's particles: a spring itself, a triangle's three edges, a
-/// tetrahedron's six.
-fn edges_of<const N: usize>(p: [u32; N]) -> Vec<[u32; 2]> {
-    (0..N).flat_map(|i| (i + 1..N).map(move |j| [p[i], p[j]])).collect()
-}
-
-fn view<E: Element<N>, const N: usize>(name: &'static str, f: &Family<E, N>, hinge: bool) -> GroupView {
+fn view<E: Element<N>, const N: usize>(name: &'static str, f: &Family<E, N>) -> GroupView {
     let (mut segments, mut segment_colors) = (Vec::new(), Vec::new());
     for (c, range) in f.colors.iter().enumerate() {
         for e in &f.elements[range.start as usize..range.end as usize] {
-            let p = e.particles();
-            let edges = if hinge { vec![[p[0], p[1]]] } else { edges_of(p) };
+            let edges = e.outline();
             segment_colors.extend(std::iter::repeat_n(group_color(c), edges.len()));
             segments.extend(edges);
         }
@@ -69,18 +62,7 @@ fn view<E: Element<N>, const N: usize>(name: &'static str, f: &Family<E, N>, hin
 /// The color-group views of every family of `scene`, in solve order.
 pub fn group_views(scene: &Scene) -> Vec<GroupView> {
     let mut out = Vec::new();
-    if let Some(f) = &scene.springs {
-        out.push(view("springs", f, false));
-    }
-    if let Some(f) = &scene.bends {
-        out.push(view("bending", f, true));
-    }
-    if let Some(f) = &scene.tets {
-        out.push(view("tetrahedra", f, false));
-    }
-    if let Some(f) = &scene.membranes {
-        out.push(view("membranes", f, false));
-    }
+    crate::for_each_family!(scene, |i, f| out.push(view(crate::scene::FAMILY_LABELS[i], f)));
     out
 }
 
