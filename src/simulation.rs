@@ -85,6 +85,19 @@ impl Simulation {
         }
     }
 
+    /// Overwrites the velocities (m/s), one per particle (the GPU checks the count and starts
+    /// the projection's budget again).
+    pub fn set_velocities(&mut self, v: &[Vec3]) -> Result<()> {
+        match self {
+            Simulation::Cpu(c) if v.len() == c.particles.len() => {
+                c.particles.set_velocities(v);
+                Ok(())
+            }
+            Simulation::Cpu(_) => Err(Error::param("velocities", v.len(), "must be one per particle")),
+            Simulation::Gpu(g) => g.set_velocities(v),
+        }
+    }
+
     /// Current positions (m).
     pub fn positions(&self) -> Result<Vec<Vec3>> {
         match self {
@@ -94,19 +107,51 @@ impl Simulation {
     }
 }
 
-/// A `STORAGE | VERTEX` position buffer the CPU backend uploads into so the GPU renderer can
-/// draw it (`vec4` per particle, w = inverse mass).
-pub fn upload_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
+/// The positions the renderer draws, one `vec4` per particle (xyz in m, w the inverse mass):
+/// the GPU solver's own buffer, or for the CPU solver a `STORAGE | VERTEX` buffer that
+/// [`Simulation::refresh_draw`] uploads its positions into.
+#[derive(Clone, Debug)]
+pub struct DrawBuffer {
+    buffer: wgpu::Buffer,
+    /// The buffer takes uploads from the CPU solver.
+    uploaded: bool,
+}
+
+impl DrawBuffer {
+    /// The buffer to bind.
+    pub fn buffer(&self) -> &wgpu::Buffer {
+        &self.buffer
+    }
+}
+
+impl Simulation {
+    /// The buffer the renderer draws this simulation's positions from, up to date now: the GPU
+    /// solver's positions, or a new buffer holding the CPU solver's.
+    pub fn draw_buffer(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> DrawBuffer {
+        let draw = match self {
+            Simulation::Gpu(g) => DrawBuffer { buffer: g.x.clone(), uploaded: false },
+            Simulation::Cpu(c) => DrawBuffer { buffer: upload_buffer(device, c.particles.len()), uploaded: true },
+        };
+        self.refresh_draw(queue, &draw);
+        draw
+    }
+
+    /// Brings `draw` (from [`Simulation::draw_buffer`]) up to date: uploads the CPU solver's
+    /// positions; nothing to do on the GPU, which draws its own buffer.
+    pub fn refresh_draw(&self, queue: &wgpu::Queue, draw: &DrawBuffer) {
+        if let (Simulation::Cpu(c), true) = (self, draw.uploaded) {
+            let x: Vec<Vec4> = c.particles.x.iter().zip(&c.particles.w).map(|(p, &w)| p.extend(w)).collect();
+            queue.write_buffer(&draw.buffer, 0, bytemuck::cast_slice(&x));
+        }
+    }
+}
+
+/// A `STORAGE | VERTEX | COPY_DST` position buffer for `n` particles.
+fn upload_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("uploaded positions"),
         size: (n.max(1) * 16) as u64,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
-}
-
-/// Writes a CPU solver's positions into an [`upload_buffer`].
-pub fn upload_positions(queue: &wgpu::Queue, buffer: &wgpu::Buffer, solver: &CpuSolver<Vec3A>) {
-    let x: Vec<Vec4> = solver.particles.x.iter().zip(&solver.particles.w).map(|(p, &w)| p.extend(w)).collect();
-    queue.write_buffer(buffer, 0, bytemuck::cast_slice(&x));
 }

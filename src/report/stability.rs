@@ -296,10 +296,7 @@ pub fn run_case(case: &Case, backend: Backend, gpu: Option<&Gpu>) -> Result<Outc
     });
     case.settings.validate()?;
     let mut sim = Simulation::new(backend, scene, gpu.map(|(c, k)| (c, k)))?;
-    match &mut sim {
-        Simulation::Cpu(c) => c.particles.set_velocities(&v0),
-        Simulation::Gpu(g) => g.set_velocities(&v0)?,
-    }
+    sim.set_velocities(&v0)?;
     let t0 = Instant::now();
     let frames = case.frames();
     let every = (frames / 300).max(1);

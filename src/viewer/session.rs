@@ -21,7 +21,7 @@ use crate::gpu::{GpuContext, Kernels};
 use crate::metrics::FrameStats;
 use crate::render::{Camera, FrameViews, LineSet, Renderer, SceneView};
 use crate::scene::{self, Scene};
-use crate::simulation::{Backend, Simulation, upload_buffer, upload_positions};
+use crate::simulation::{Backend, DrawBuffer, Simulation};
 use crate::solver::Settings;
 
 /// What the statistics panel shows of the scene.
@@ -82,7 +82,7 @@ pub struct Session {
     built: (SceneChoice, Backend),
     sim: Simulation,
     view: SceneView,
-    upload: Option<wgpu::Buffer>,
+    positions: DrawBuffer,
     strain: StrainPass,
     groups: Vec<GroupView>,
     wire: LineSet,
@@ -144,7 +144,7 @@ impl Session {
             state,
             built,
             view: parts.view,
-            upload: parts.upload,
+            positions: parts.positions,
             strain: parts.strain,
             groups: parts.groups,
             wire: parts.wire,
@@ -206,19 +206,17 @@ impl Session {
         timestamps: bool,
     ) -> DrawData {
         let scene = sim.scene();
-        let (positions, upload, readback) = match sim {
-            Simulation::Gpu(g) => (g.x.clone(), None, Some(StatsReadback::new(device, queue, g, timestamps))),
-            Simulation::Cpu(c) => {
-                let b = upload_buffer(device, scene.num_particles());
-                upload_positions(queue, &b, c);
-                (b.clone(), Some(b), None)
-            }
+        let readback = match sim {
+            Simulation::Gpu(g) => Some(StatsReadback::new(device, queue, g, timestamps)),
+            Simulation::Cpu(_) => None,
         };
-        let view = SceneView::new(device, r, scene, &positions);
-        let strain = StrainPass::new(device, scene, &positions);
+        let draw = sim.draw_buffer(device, queue);
+        let positions = draw.buffer();
+        let view = SceneView::new(device, r, scene, positions);
+        let strain = StrainPass::new(device, scene, positions);
         let wire_edges = overlay::wireframe(scene);
-        let wire = LineSet::new(device, r, &positions, &wire_edges, &vec![WIRE_COLOR; wire_edges.len()]);
-        DrawData { view, upload, strain, groups: overlay::group_views(scene), wire, readback }
+        let wire = LineSet::new(device, r, positions, &wire_edges, &vec![WIRE_COLOR; wire_edges.len()]);
+        DrawData { view, positions: draw, strain, groups: overlay::group_views(scene), wire, readback }
     }
 
     /// Rebuilds the simulation for the chosen scene and backend. With the same mesh (a material
@@ -242,7 +240,7 @@ impl Session {
         let parts = Self::draw_data(&ctx.device, &ctx.queue, &self.renderer, &sim, self.timestamps.is_some());
         self.sim = sim;
         self.view = parts.view;
-        self.upload = parts.upload;
+        self.positions = parts.positions;
         self.strain = parts.strain;
         self.groups = parts.groups;
         self.wire = parts.wire;
@@ -327,9 +325,6 @@ impl Session {
                 let stats = FrameStats::measure(c, self.frame, 0.0);
                 self.history.push(Sample::from(&stats));
                 self.stats = Some(stats);
-                if let Some(b) = &self.upload {
-                    upload_positions(&self.queue, b, c);
-                }
             }
             Simulation::Gpu(g) => {
                 let ts = self.timestamps.as_ref().filter(|_| step);
@@ -351,6 +346,7 @@ impl Session {
                 }
             }
         }
+        self.sim.refresh_draw(&self.queue, &self.positions);
         self.prepare_draw(encoder);
         self.view.camera = self.orbit.camera();
         self.view.viewport = Some(viewport);
@@ -495,7 +491,7 @@ impl Session {
 /// The per-scene draw data.
 struct DrawData {
     view: SceneView,
-    upload: Option<wgpu::Buffer>,
+    positions: DrawBuffer,
     strain: StrainPass,
     groups: Vec<GroupView>,
     wire: LineSet,
