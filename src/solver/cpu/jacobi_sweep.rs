@@ -82,11 +82,14 @@ pub(super) fn jacobi_element<E: Element<N>, V: Vector, const N: usize>(
     let idx = e.particles();
     let xs = gather(at.x, idx);
     let ws = idx.map(|i| at.w[i as usize]);
-    let adjust = |c_val, alpha| match local {
-        Some(ctx) => local_adjusted(ctx, j, idx, &xs, &ws, at.k, c_val, alpha),
-        None => c_val,
+    // Two instantiations, so the update without the local mode carries no trace of it.
+    let (grad, d) = match local {
+        Some(ctx) => {
+            let adjust = |c_val, alpha| local_adjusted(ctx, j, idx, &xs, &ws, at.k, c_val, alpha);
+            solve_element(e, params, &xs, &ws, at.x_prev, *lambda, at.k, adjust)?
+        }
+        None => solve_element(e, params, &xs, &ws, at.x_prev, *lambda, at.k, |c_val, _| c_val)?,
     };
-    let (grad, d) = solve_element(e, params, &xs, &ws, at.x_prev, *lambda, at.k, adjust)?;
     let d = d * scale;
     *lambda += d;
     Some(std::array::from_fn(|n| grad[n] * (ws[n] * d)))
