@@ -242,12 +242,31 @@ fn gpu_energies_match_the_cpu() {
     }
 }
 
+/// The largest distance (m) between two CPU runs of one frame of `cloth`, one started from
+/// positions moved by one unit in the last place (up or down in a fixed pattern): the CPU's own
+/// response to the rounding by which two compilers of the same arithmetic may differ.
+fn first_frame_sensitivity(opts: SceneOptions, s: &Settings) -> f32 {
+    let sc = scene::build("cloth", &opts).unwrap();
+    let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
+    let mut nudged = CpuSolver::<Vec3A>::new(sc);
+    for (i, p) in nudged.particles.x.iter_mut().enumerate() {
+        let e = if i % 2 == 0 { f32::EPSILON } else { -f32::EPSILON };
+        *p *= Vec3A::new(1.0 + e, 1.0 - e, 1.0 + e);
+    }
+    cpu.step_frame(s);
+    nudged.step_frame(s);
+    let (a, b) = (cpu.particles.positions(), nudged.particles.positions());
+    a.iter().zip(&b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max)
+}
+
 #[test]
 fn anisotropic_cloth_matches_the_cpu() {
     // The membrane triangles (with bending) in both forms and both iterations, stiff warp and
-    // soft weft. The first frame agrees to rounding; afterwards the compliant form's
-    // C = √(2E/s), whose gradient turns on rounding where E ≈ 0 (the flat cloth at rest),
-    // makes the fall sensitive, so the GPU is compared with the CPU's own sensitivity.
+    // soft weft. The first frame agrees to rounding: within 1e-6 m plus ten times the CPU's own
+    // response to a one-ulp nudge of the positions (the compliant form's C = √(2E/s) has a
+    // gradient that turns on rounding where E ≈ 0, the flat cloth at rest, so a GPU that fuses
+    // multiply-adds differs by more than lavapipe). Afterwards that sensitivity grows over the
+    // fall, so the GPU is compared with the CPU's own sensitivity over 120 frames.
     let ctx = context();
     let kernels = Arc::new(Kernels::new(&ctx.device));
     let membrane = Some(eapbd::constraints::Orthotropic::new(1e4, 1e3, None, 0.0).unwrap());
@@ -256,11 +275,16 @@ fn anisotropic_cloth_matches_the_cpu() {
         for method in [Method::GaussSeidel, Method::Jacobi] {
             let s = Settings { form, method, substeps: 2, iterations: 10, ..Settings::default() };
             let (first, _) = compare(&ctx, &kernels, "cloth", opts, &s, 1);
+            let own = first_frame_sensitivity(opts, &s);
             let (ratio, d) = compare_sensitive(&ctx, &kernels, opts, &s, 120);
             println!(
-                "aniso-cloth {form:?} {method:?}: first frame {first:.3e} m, max distance {d:.3e} m, ratio {ratio:.3}"
+                "aniso-cloth {form:?} {method:?}: first frame {first:.3e} m (the CPU's own {own:.3e} m), \
+                 max distance {d:.3e} m, ratio {ratio:.3}"
             );
-            assert!(first < 1e-6, "aniso-cloth {form:?} {method:?}: the first frame differs by {first:.3e} m");
+            assert!(
+                first < 1e-6 + 10.0 * own,
+                "aniso-cloth {form:?} {method:?}: the first frame differs by {first:.3e} m (the CPU's own {own:.3e} m)"
+            );
             assert!(ratio < 1.0, "aniso-cloth {form:?} {method:?}: GPU and CPU differ by {d:.3e} m");
         }
     }

@@ -30,20 +30,33 @@ pub struct BenchArgs {
     /// cloths up to about 100,000 constraints.
     #[arg(long)]
     pub quick: bool,
-    /// Output directory (default: docs/bench, or target/bench-quick with --quick).
+    /// Output directory (default: docs/bench; target/bench-quick with --quick, target/bench-gpu
+    /// with --gpu-only).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Leave out the GPU path.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "gpu_only")]
     pub cpu_only: bool,
+    /// Time the GPU path alone (every case's GPU row; no CPU rows, splits or coloring): the
+    /// short run for a machine lent with a GPU.
+    #[arg(long)]
+    pub gpu_only: bool,
 }
 
 /// Runs the command.
 pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     let started = Instant::now();
     let plan = if a.quick { Plan::quick() } else { Plan::full() };
-    let out = a.out.clone().unwrap_or_else(|| PathBuf::from(if a.quick { "target/bench-quick" } else { "docs/bench" }));
-    let total = |gpu: bool| (plan.rows(gpu) + 2 * plan.splits.len() + 1) as u64;
+    let out = a.out.clone().unwrap_or_else(|| {
+        PathBuf::from(match (a.quick, a.gpu_only) {
+            (_, true) => "target/bench-gpu",
+            (true, false) => "target/bench-quick",
+            (false, false) => "docs/bench",
+        })
+    });
+    let total = |gpu: bool| {
+        if a.gpu_only { plan.rows(true) - plan.rows(false) + 1 } else { plan.rows(gpu) + 2 * plan.splits.len() + 1 }
+    } as u64;
     let bar = indicatif::ProgressBar::new(total(!a.cpu_only));
     if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:30} {pos}/{len} {elapsed_precise} {msg}") {
         bar.set_style(style);
@@ -58,7 +71,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
         let scene = scene::build(case.scene, &case.opts)?;
         // The CPU backends, timed together; each row keeps its backend's index in the case.
         let (index, backends): (Vec<usize>, Vec<Backend>) =
-            case.backends.iter().copied().enumerate().filter(|(_, b)| *b != Backend::Gpu).unzip();
+            case.backends.iter().copied().enumerate().filter(|(_, b)| *b != Backend::Gpu && !a.gpu_only).unzip();
         let names: Vec<&str> = backends.iter().map(|b| b.name()).collect();
         bar.set_message(format!("{} ({} constraints) on {}", case.label, scene.num_constraints(), names.join(" and ")));
         for (b, row) in index.into_iter().zip(measure::cpu_rows(case, &scene, &backends, &plan.budget)?) {
@@ -69,7 +82,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     }
 
     let mut splits = Vec::new();
-    for &(iterations, substeps) in &plan.splits {
+    for &(iterations, substeps) in plan.splits.iter().filter(|_| !a.gpu_only) {
         bar.set_message(format!("peer scene {iterations} × {substeps}"));
         splits.extend(peer::run_split(iterations, substeps, &[Backend::CpuSingle, Backend::CpuAll], plan.peer_frames)?);
         bar.inc(2);
@@ -80,6 +93,7 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     } else {
         match Gpu::open() {
             Ok(g) => Some(g),
+            Err(e) if a.gpu_only => return Err(e.into()),
             Err(e) => {
                 eprintln!("GPU path not measured: {e}");
                 bar.set_length(total(false));
@@ -101,13 +115,18 @@ pub fn run(a: &BenchArgs) -> anyhow::Result<()> {
     let rows: Vec<_> = rows.into_iter().map(|(_, _, row)| row).collect();
 
     bar.set_message("mesh coloring");
-    let coloring = coloring::run(plan.coloring_reps);
+    let coloring = if a.gpu_only { Vec::new() } else { coloring::run(plan.coloring_reps) };
     bar.inc(1);
     bar.finish_and_clear();
 
     let scaling = scaling::series(&rows);
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let command = if plan.quick { "eapbd bench --quick" } else { "eapbd bench" };
+    let command = match (plan.quick, a.gpu_only) {
+        (true, true) => "eapbd bench --quick --gpu-only",
+        (true, false) => "eapbd bench --quick",
+        (false, true) => "eapbd bench --gpu-only",
+        (false, false) => "eapbd bench",
+    };
     let header = format!(
         "# Benchmarks ({})\n\nCommand: `cargo run --release -- {}`. {threads} CPU threads available; GPU adapter: {gpu_name}. \
          f32, dt = 1/60 s, Gauss-Seidel over color groups unless stated.\n\n",

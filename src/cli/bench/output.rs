@@ -89,7 +89,12 @@ pub fn memory_table(rows: &[Row]) -> String {
         "| scene | solver | particles | constraints | CPU | CPU B/particle | CPU B/constraint | GPU | GPU B/particle | GPU B/constraint |\n\
          |---|---|---|---|---|---|---|---|---|---|\n",
     );
-    for cpu in rows.iter().filter(|r| r.backend == Backend::CpuSingle) {
+    let single = |g: &Row| {
+        rows.iter()
+            .any(|c| c.backend == Backend::CpuSingle && c.label == g.label && c.method == g.method && c.form == g.form)
+    };
+    // A GPU row stands for its case where no one-thread row was measured (`bench --gpu-only`).
+    for cpu in rows.iter().filter(|r| r.backend == Backend::CpuSingle || (r.backend == Backend::Gpu && !single(r))) {
         let gpu = rows.iter().find(|g| {
             g.backend == Backend::Gpu
                 && g.label == cpu.label
@@ -104,16 +109,25 @@ pub fn memory_table(rows: &[Row]) -> String {
                 format!("{:.1}", g.bytes_per_constraint()),
             )
         });
+        let (c_total, c_p, c_c) = if cpu.backend == Backend::Gpu {
+            ("–".into(), "–".into(), "–".into())
+        } else {
+            (
+                bytes(cpu.memory.total),
+                format!("{:.0}", cpu.bytes_per_particle()),
+                format!("{:.1}", cpu.bytes_per_constraint()),
+            )
+        };
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {:.0} | {:.1} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             cpu.label,
             solver(cpu),
             cpu.particles,
             cpu.constraints,
-            bytes(cpu.memory.total),
-            cpu.bytes_per_particle(),
-            cpu.bytes_per_constraint(),
+            c_total,
+            c_p,
+            c_c,
             g_total,
             g_p,
             g_c
@@ -230,6 +244,25 @@ pub fn markdown(r: &Results) -> String {
          count; per constraint: the per-constraint arrays over the constraint count.\n\n",
     );
     s.push_str(&memory_table(&r.rows));
+    if !r.splits.is_empty() {
+        peer_section(&mut s, r);
+    }
+    s.push_str("\n## Scaling\n\n");
+    s.push_str(
+        "`cloth --resolution N` (springs k_s = 1e4 N/m on grid edges and one diagonal, dihedral bending \
+         k_b = 1e-3 N·m/rad), 30 iterations; ratio: ns per projection over the smallest cloth's on the same \
+         backend (1 = linear). Plot: `scaling.png`.\n\n",
+    );
+    s.push_str(&scaling_table(&r.scaling));
+    if !r.coloring.is_empty() {
+        let _ = write!(s, "\n## Mesh coloring\n\nBest of {} runs.\n\n", r.coloring_reps);
+        s.push_str(&coloring_table(&r.coloring));
+    }
+    s
+}
+
+/// The peer scene's splits: what was run, the table and the most accurate split.
+fn peer_section(s: &mut String, r: &Results) {
     let _ = write!(
         s,
         "\n## Peer scene: splits of 30\n\n`cloth --resolution {PEER_RESOLUTION} --stiffness {PEER_STIFFNESS:e} \
@@ -246,16 +279,7 @@ pub fn markdown(r: &Results) -> String {
     s.push_str(&peer_table(&r.splits));
     s.push('\n');
     s.push_str(&most_accurate_line(&r.splits));
-    s.push_str("\n\n## Scaling\n\n");
-    s.push_str(
-        "`cloth --resolution N` (springs k_s = 1e4 N/m on grid edges and one diagonal, dihedral bending \
-         k_b = 1e-3 N·m/rad), 30 iterations; ratio: ns per projection over the smallest cloth's on the same \
-         backend (1 = linear). Plot: `scaling.png`.\n\n",
-    );
-    s.push_str(&scaling_table(&r.scaling));
-    let _ = write!(s, "\n## Mesh coloring\n\nBest of {} runs.\n\n", r.coloring_reps);
-    s.push_str(&coloring_table(&r.coloring));
-    s
+    s.push('\n');
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> eapbd::Error + '_ {
