@@ -1,8 +1,8 @@
 // Kernels shared by every constraint family, of ARITY particles (springs, bending, tetrahedra,
 // triangles).
-// Keep in sync with src/solver/cpu.rs and src/solver/xpbd.rs. The family's own file defines:
+// Keep in sync with src/solver/cpu.rs and src/solver/xpbd.rs. The family's index FAMILY (its
+// line in src/scene/mod.rs's family_list) is written ahead of the module; its own file defines:
 //   const ARITY: u32;             particles per element
-//   const PARTIAL_FAMILY: u32;    its slot range in the energy reduction's partial sums
 //   fn element_particles(j: u32) -> array<u32, ARITY>
 //   fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj   (C, ∇C, α in the current form)
 //   fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32     (material energy, J)
@@ -202,6 +202,6 @@ fn energy(
     }
     let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc.x, acc.y));
     if (lid.x == 0u) {
-        partials[PARTIAL_FAMILY + wid.x] = total;
+        partials[PARTIAL_FAMILIES + FAMILY * REDUCE_GROUPS + wid.x] = total;
     }
 }

@@ -22,17 +22,18 @@ struct SimParams {
     ground_friction: f32,
     has_ground: u32,
     num_spheres: u32,
-    // Distance kept from colliders (m), number of particles, springs and bending elements.
+    // Distance kept from colliders (m), number of particles, over-relaxation ω applied to every
+    // Δλ, 1 when the finish pass makes the last iteration's contact pass first.
     contact_offset: f32,
     num_particles: u32,
-    num_springs: u32,
-    num_bends: u32,
-    // Over-relaxation ω applied to every Δλ; number of tetrahedra, their model (MODEL_* in
-    // shaders/material/models.wgsl) and the compliant form's stiffness scale s (Pa).
     sor: f32,
-    num_tets: u32,
+    in_loop_contacts: u32,
+    // The tetrahedra's model (MODEL_* in shaders/material/models.wgsl) and the compliant form's
+    // stiffness scales s of the tetrahedra (Pa) and of the membranes (N/m).
     tet_model: u32,
     tet_scale: f32,
+    membrane_scale: f32,
+    pad3: u32,
     // Constants of the 3D model (Pa), precomputed in f64 as in src/material/models.rs: μ, 2μ,
     // μ/2, λ, λ/2, Mooney-Rivlin μ₀₁/2, μ₁₀, ν₁, κ/2, Arruda-Boyce αᵢ.
     mu: f32,
@@ -51,17 +52,13 @@ struct SimParams {
     ab4: f32,
     pad0: f32,
     pad1: f32,
-    // Membranes: number, the compliant form's stiffness scale s (N/m); 1 when the finish pass
-    // makes the last iteration's contact pass first; then C_orth = [[c_uu, c_uv, 0], [c_uv, c_vv,
-    // 0], [0, 0, c_ss]] (N/m).
-    num_membranes: u32,
-    membrane_scale: f32,
-    in_loop_contacts: u32,
-    pad3: u32,
+    // The membranes' C_orth = [[c_uu, c_uv, 0], [c_uv, c_vv, 0], [0, 0, c_ss]] (N/m).
     c_uu: f32,
     c_uv: f32,
     c_vv: f32,
     c_ss: f32,
+    // Elements of each constraint family, by its index FAMILY (0 where the scene lacks it).
+    counts: vec4<u32>,
 }
 
 // The energy ledger (one per scene), written by the reduction's final kernel.
@@ -109,18 +106,17 @@ struct Projection {
 }
 
 // Slots of the reduction's per-workgroup partial sums (particles: x kinetic, y gravitational,
-// w work; families: z material energy, w held energy): particles, springs, bending, tetrahedra,
-// membranes; at most REDUCE_GROUPS workgroups each; then the projection's five moment sums per
-// workgroup (PARTIAL_MOMENTS + q REDUCE_GROUPS + workgroup). Keep PARTIAL_SLOTS in sync with
-// src/gpu/kernels.rs.
+// w work; families: z material energy, w held energy): the particles', then each family's
+// (PARTIAL_FAMILIES + FAMILY REDUCE_GROUPS + workgroup), at most REDUCE_GROUPS workgroups each;
+// then the projection's five moment sums per workgroup (PARTIAL_MOMENTS + q REDUCE_GROUPS +
+// workgroup). FAMILY_COUNT (and FAMILY in a family's module) come from src/scene/mod.rs's
+// family_list, written ahead of the module by src/gpu/shaders.rs. Keep PARTIAL_SLOTS in sync
+// with src/gpu/kernels.rs.
 const REDUCE_GROUPS: u32 = 256u;
 const PARTIAL_PARTICLES: u32 = 0u;
-const PARTIAL_SPRINGS: u32 = 256u;
-const PARTIAL_BENDS: u32 = 512u;
-const PARTIAL_TETS: u32 = 768u;
-const PARTIAL_MEMBRANES: u32 = 1024u;
-const PARTIAL_MOMENTS: u32 = 1280u;
-const PARTIAL_SLOTS: u32 = 2560u;
+const PARTIAL_FAMILIES: u32 = REDUCE_GROUPS;
+const PARTIAL_MOMENTS: u32 = PARTIAL_FAMILIES + FAMILY_COUNT * REDUCE_GROUPS;
+const PARTIAL_SLOTS: u32 = PARTIAL_MOMENTS + 5u * REDUCE_GROUPS;
 
 // One dispatch's slice of a family (a color group, or all of it for Jacobi), bound with a
 // dynamic offset. slot_base: first Jacobi correction slot of the family.

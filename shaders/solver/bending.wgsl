@@ -13,7 +13,6 @@ struct Bend {
 @group(1) @binding(0) var<storage, read> bends: array<Bend>;
 
 const ARITY: u32 = 4u;
-const PARTIAL_FAMILY: u32 = PARTIAL_BENDS;
 
 const PI: f32 = 3.141592653589793;
 

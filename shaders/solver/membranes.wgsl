@@ -16,7 +16,6 @@ struct Membrane {
 @group(1) @binding(0) var<storage, read> membranes: array<Membrane>;
 
 const ARITY: u32 = 3u;
-const PARTIAL_FAMILY: u32 = PARTIAL_MEMBRANES;
 
 fn element_particles(j: u32) -> array<u32, ARITY> {
     let m = membranes[j];

@@ -181,24 +181,14 @@ fn energy_final(@builtin(local_invocation_id) lid: vec3<u32>) {
     var particles = vec4<f32>(0.0);
     var families = vec4<f32>(0.0);
     let np = reduce_count(params.num_particles);
-    let ns = reduce_count(params.num_springs);
-    let nb = reduce_count(params.num_bends);
     for (var k = lid.x; k < np; k += 64u) {
         particles += partials[PARTIAL_PARTICLES + k];
     }
-    for (var k = lid.x; k < ns; k += 64u) {
-        families += partials[PARTIAL_SPRINGS + k];
-    }
-    for (var k = lid.x; k < nb; k += 64u) {
-        families += partials[PARTIAL_BENDS + k];
-    }
-    let nt = reduce_count(params.num_tets);
-    for (var k = lid.x; k < nt; k += 64u) {
-        families += partials[PARTIAL_TETS + k];
-    }
-    let nm = reduce_count(params.num_membranes);
-    for (var k = lid.x; k < nm; k += 64u) {
-        families += partials[PARTIAL_MEMBRANES + k];
+    for (var f = 0u; f < FAMILY_COUNT; f++) {
+        let n = reduce_count(params.counts[f]);
+        for (var k = lid.x; k < n; k += 64u) {
+            families += partials[PARTIAL_FAMILIES + f * REDUCE_GROUPS + k];
+        }
     }
     let tp = reduce_workgroup(lid.x, particles);
     let tf = reduce_workgroup(lid.x, families);

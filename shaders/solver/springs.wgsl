@@ -12,7 +12,6 @@ struct Spring {
 @group(1) @binding(0) var<storage, read> springs: array<Spring>;
 
 const ARITY: u32 = 2u;
-const PARTIAL_FAMILY: u32 = PARTIAL_SPRINGS;
 
 fn element_particles(j: u32) -> array<u32, ARITY> {
     let s = springs[j];

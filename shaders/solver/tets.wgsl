@@ -18,7 +18,6 @@ struct Tet {
 @group(1) @binding(0) var<storage, read> tets: array<Tet>;
 
 const ARITY: u32 = 4u;
-const PARTIAL_FAMILY: u32 = PARTIAL_TETS;
 
 fn element_particles(j: u32) -> array<u32, ARITY> {
     let t = tets[j];

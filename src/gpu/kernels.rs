@@ -73,9 +73,10 @@ macro_rules! family_kinds {
                 }
             }
 
-            fn source(self) -> &'static str {
+            /// The family's WGSL module as compiled: its [`shaders::solver_head`], then its source.
+            pub fn source(self) -> String {
                 match self {
-                    $(FamilyKind::$kind => shaders::$source,)*
+                    $(FamilyKind::$kind => shaders::solver_head(Some($index)) + shaders::$source,)*
                 }
             }
         }
@@ -223,7 +224,7 @@ impl Kernels {
         let energy_layout =
             layout(device, "energy", &[storage_entry(2, false), storage_entry(3, false), storage_entry(4, false)]);
 
-        let particles_module = shader_module(device, "particles", shaders::PARTICLES);
+        let particles_module = shader_module(device, "particles", &shaders::particles());
         let p = Some(&particles_layout);
         Kernels {
             predict: pipeline(device, &particles_module, "predict", "predict", &[p]),
@@ -296,7 +297,7 @@ impl Kernels {
 
     /// The kernels of family `kind` (built on first use).
     pub fn family(&self, kind: FamilyKind) -> &FamilyKernels {
-        self.families[kind as usize].get_or_init(|| self.build_family(kind.source(), kind.name()))
+        self.families[kind as usize].get_or_init(|| self.build_family(&kind.source(), kind.name()))
     }
 
     fn build_family(&self, source: &str, name: &str) -> FamilyKernels {
@@ -326,7 +327,8 @@ pub(crate) fn groups(count: u32) -> u32 {
 }
 
 /// Partial-sum slots of the energy reduction (`PARTIAL_SLOTS` in `shaders/common/types.wgsl`).
-pub(crate) const PARTIAL_SLOTS: usize = 2560;
+/// The particles' slots, each family's and the projection's five moment sums, `REDUCE_GROUPS` each.
+pub(crate) const PARTIAL_SLOTS: usize = (1 + crate::scene::FAMILY_COUNT + 5) * 256;
 
 /// Workgroups of an energy reduction over `count` items (at most 256 partial sums each; keep in
 /// sync with `REDUCE_GROUPS` in `shaders/common/types.wgsl`).

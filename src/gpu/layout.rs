@@ -43,35 +43,31 @@ pub struct SimParams {
     pub contact_offset: f32,
     /// Number of particles.
     pub num_particles: u32,
-    /// Number of springs.
-    pub num_springs: u32,
-    /// Number of bending elements.
-    pub num_bends: u32,
     /// Over-relaxation `ω`.
     pub sor: f32,
-    /// Number of tetrahedra.
-    pub num_tets: u32,
+    /// 1 when the finish pass makes the last iteration's contact pass first (`iterations > 0`;
+    /// the frame then has no dispatch of its own for it).
+    pub in_loop_contacts: u32,
     /// The tetrahedra's model, its index in [`Model::ALL`].
     pub tet_model: u32,
     /// The compliant form's stiffness scale `s` of the tetrahedra (Pa).
     pub tet_scale: f32,
+    /// The compliant form's stiffness scale `s` of the membranes (N/m).
+    pub membrane_scale: f32,
+    /// Padding.
+    pub pad: u32,
     /// Constants of the 3D model (Pa): `[μ, 2μ, μ/2, λ, λ/2, μ₀₁/2, μ₁₀, ν₁, κ/2, α₁..α₅, 0, 0]`
     /// (Mooney-Rivlin and Arruda-Boyce as in [`crate::material::Elastic`]), each rounded once
     /// from `f64` as on the CPU.
     pub elastic: [f32; 16],
-    /// Number of membrane triangles.
-    pub num_membranes: u32,
-    /// The compliant form's stiffness scale `s` of the membranes (N/m).
-    pub membrane_scale: f32,
-    /// 1 when the finish pass makes the last iteration's contact pass first (`iterations > 0`;
-    /// the frame then has no dispatch of its own for it).
-    pub in_loop_contacts: u32,
-    /// Padding.
-    pub pad: u32,
     /// The membranes' `C_orth` entries `[c_uu, c_uv, c_vv, c_ss]` (N/m).
     pub membrane: [f32; 4],
+    /// Elements of each constraint family, by its index in [`crate::family_list`] (`FAMILY` in
+    /// the family's WGSL); 0 for a family the scene lacks.
+    pub counts: [u32; 4],
 }
 
+const _: () = assert!(crate::scene::FAMILY_COUNT <= 4, "SimParams::counts holds four families");
 const _: () = assert!(std::mem::size_of::<SimParams>() == 208);
 
 /// The 3D model's constants as [`SimParams::elastic`] holds them.
@@ -165,6 +161,8 @@ impl SimParams {
         let ground = scene.ground;
         let tets = scene.tets.as_ref().map(|f| &f.params);
         let membranes = scene.membranes.as_ref().map(|f| &f.params);
+        let mut counts = [0u32; 4];
+        crate::for_each_family!(scene, |i, f| counts[i] = f.len() as u32);
         SimParams {
             gravity: scene.gravity.extend(0.0).to_array(),
             rest_com: scene.rest_center_of_mass().extend(0.0).to_array(),
@@ -182,18 +180,15 @@ impl SimParams {
             num_spheres: scene.spheres.len() as u32,
             contact_offset: scene.contact_offset,
             num_particles: scene.num_particles() as u32,
-            num_springs: scene.springs.as_ref().map_or(0, |f| f.len() as u32),
-            num_bends: scene.bends.as_ref().map_or(0, |f| f.len() as u32),
             sor: s.sor,
-            num_tets: scene.tets.as_ref().map_or(0, |f| f.len() as u32),
+            in_loop_contacts: s.contacts_in_finish() as u32,
             tet_model: tets.map_or(0, |p| Model::ALL.iter().position(|&m| m == p.elastic.model).unwrap_or(0) as u32),
             tet_scale: tets.map_or(1.0, |p| p.scale as f32),
-            elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
-            num_membranes: scene.membranes.as_ref().map_or(0, |f| f.len() as u32),
             membrane_scale: membranes.map_or(1.0, |p| p.scale as f32),
-            in_loop_contacts: s.contacts_in_finish() as u32,
             pad: 0,
+            elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
             membrane: membranes.map_or([0.0; 4], |p| p.c.map(|v| v as f32)),
+            counts,
         }
     }
 }

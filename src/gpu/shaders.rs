@@ -59,13 +59,24 @@ pub const LINES: &str =
 /// Strain colours per vertex.
 pub const STRAIN: &str = include_str!("../../shaders/render/strain.wgsl");
 
-/// Every composed module with its name, for validation.
-pub const ALL: [(&str, &str); 12] = [
-    ("springs", SPRINGS),
-    ("bending", BENDING),
-    ("tets", TETS),
-    ("membranes", MEMBRANES),
-    ("particles", PARTICLES),
+/// What every solver module is compiled with ahead of its source, from
+/// [`crate::family_list`]: `FAMILY_COUNT`, the number of constraint families, and in a family's
+/// module `FAMILY`, the family's index there.
+pub fn solver_head(family: Option<usize>) -> String {
+    let count = format!("const FAMILY_COUNT: u32 = {}u;\n", crate::scene::FAMILY_COUNT);
+    match family {
+        Some(f) => format!("{count}const FAMILY: u32 = {f}u;\n"),
+        None => count,
+    }
+}
+
+/// The per-particle module as compiled ([`PARTICLES`] with its [`solver_head`]).
+pub fn particles() -> String {
+    solver_head(None) + PARTICLES
+}
+
+/// The drawing modules, which need no head.
+pub const RENDER: [(&str, &str); 7] = [
     ("normals", NORMALS),
     ("embed", EMBED),
     ("mesh", MESH),
@@ -74,3 +85,12 @@ pub const ALL: [(&str, &str); 12] = [
     ("lines", LINES),
     ("strain", STRAIN),
 ];
+
+/// Every module as compiled, with its name, for validation: each constraint family's, the
+/// per-particle one and the drawing ones.
+pub fn all() -> Vec<(&'static str, String)> {
+    let mut v: Vec<(&str, String)> = super::FamilyKind::ALL.iter().map(|k| (k.name(), k.source())).collect();
+    v.push(("particles", particles()));
+    v.extend(RENDER.iter().map(|&(name, src)| (name, src.to_string())));
+    v
+}
