@@ -317,21 +317,14 @@ impl FrameStats {
 
 impl std::fmt::Display for FrameStats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let FrameStats { frame, time_ms, residual_rms, residual_max, stretch_mean, stretch_max, kinetic, .. } = *self;
+        let (gravitational, elastic, total) = (self.gravitational, self.elastic, self.total());
+        let (dissipated, unresolved) = (self.dissipated, self.unresolved);
         write!(
             f,
-            "frame {:5}  {:8.3} ms  residual rms {:.3e} max {:.3e}  stretch mean {:.3e} max {:.3e}  KE {:.4e} J  GPE {:+.4e} J  elastic {:.4e} J  total {:+.4e} J  dissipated {:+.3e} J  unresolved {:.3e} J",
-            self.frame,
-            self.time_ms,
-            self.residual_rms,
-            self.residual_max,
-            self.stretch_mean,
-            self.stretch_max,
-            self.kinetic,
-            self.gravitational,
-            self.elastic,
-            self.total(),
-            self.dissipated,
-            self.unresolved
+            "frame {frame:5}  {time_ms:8.3} ms  residual rms {residual_rms:.3e} max {residual_max:.3e}  \
+             stretch mean {stretch_mean:.3e} max {stretch_max:.3e}  KE {kinetic:.4e} J  GPE {gravitational:+.4e} J  \
+             elastic {elastic:.4e} J  total {total:+.4e} J  dissipated {dissipated:+.3e} J  unresolved {unresolved:.3e} J"
         )
     }
 }

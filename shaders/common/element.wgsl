@@ -3,7 +3,8 @@
 // Keep in sync with src/solver/cpu.rs and src/solver/xpbd.rs. The family's index FAMILY (its
 // line in src/scene/mod.rs's family_list) is written ahead of the module; its own file defines:
 //   const ARITY: u32;             particles per element
-//   fn element_particles(j: u32) -> array<u32, ARITY>
+//   alias Element = ...;          its element record, whose first field p: array<u32, ARITY>
+//                                 holds the element's particles
 //   fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj   (C, ∇C, α in the current form)
 //   fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32     (material energy, J)
 //   fn element_plain(j: u32, e: Gathered) -> bool   (the lean compliant update in place, or false)
@@ -40,6 +41,12 @@ fn energy_projection(e: f32, g: array<vec3<f32>, ARITY>, s: f32) -> Proj {
         out.g[i] = select(vec3<f32>(0.0), out.g[i] * k, live);
     }
     return out;
+}
+
+@group(1) @binding(0) var<storage, read> elements: array<Element>;
+
+fn element_particles(j: u32) -> array<u32, ARITY> {
+    return elements[j].p;
 }
 
 // An element's particles and their live state (xyz position, w inverse mass).
@@ -186,22 +193,14 @@ fn local_begin(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
 
 // Partial sums of the family's material energy (z) and of the part its multipliers hold (w).
 @compute @workgroup_size(64)
-fn energy(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) ng: vec3<u32>,
-) {
+fn energy(r: Reducer) {
     var acc = vec2<f32>(0.0);
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
+    for (var t = r.gid.x; t < range.count; t += stride(r.ng)) {
         let j = range.start + t;
         let p = positions_of(gather_live(j));
         let e = element_energy(j, p);
         let pr = element_project(j, p);
         acc += vec2<f32>(e, e * held_share(pr.c, pr.alpha, lambda[j]));
     }
-    let total = reduce_workgroup(lid.x, vec4<f32>(0.0, 0.0, acc.x, acc.y));
-    if (lid.x == 0u) {
-        partials[PARTIAL_FAMILIES + FAMILY * REDUCE_GROUPS + wid.x] = total;
-    }
+    store_partial(r, PARTIAL_FAMILIES + FAMILY * REDUCE_GROUPS, vec4<f32>(0.0, 0.0, acc.x, acc.y));
 }

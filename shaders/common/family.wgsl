@@ -1,5 +1,5 @@
-// Bindings and helpers shared by the constraint-family kernels (springs.wgsl, bending.wgsl), which
-// add their element array at group(1) binding(0). Keep in sync with src/gpu/kernels.rs (layouts).
+// Bindings and helpers shared by the constraint-family kernels; element.wgsl binds the family's
+// records at group(1) binding(0). Keep in sync with src/gpu/kernels.rs (layouts).
 
 @group(1) @binding(1) var<storage, read_write> lambda: array<f32>;
 @group(1) @binding(2) var<storage, read> jacobi_scale: array<f32>;

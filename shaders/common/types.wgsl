@@ -213,6 +213,24 @@ fn reduce_workgroup(lid: u32, value: vec4<f32>) -> vec4<f32> {
     return scratch[0];
 }
 
+// The builtins of a grid-stride kernel that reduces into the partial sums: the invocation's
+// global and local index, its workgroup and the number of workgroups.
+struct Reducer {
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(num_workgroups) ng: vec3<u32>,
+}
+
+// Sums `value` over the workgroup and stores it in partials[base + workgroup] (the module binds
+// `partials`).
+fn store_partial(r: Reducer, base: u32, value: vec4<f32>) {
+    let total = reduce_workgroup(r.lid.x, value);
+    if (r.lid.x == 0u) {
+        partials[base + r.wid.x] = total;
+    }
+}
+
 // The stride of a grid-stride loop over `range.count` items.
 fn stride(num_groups: vec3<u32>) -> u32 {
     return num_groups.x * 64u;

@@ -2,15 +2,12 @@
 // between the triangles (x₀, x₁, x₂) and (x₁, x₀, x₃).
 
 struct Bend {
-    p0: u32,
-    p1: u32,
-    p2: u32,
-    p3: u32,
+    p: array<u32, ARITY>,
     rest_angle: f32,
     k: f32,
 }
 
-@group(1) @binding(0) var<storage, read> bends: array<Bend>;
+alias Element = Bend;
 
 const ARITY: u32 = 4u;
 
@@ -120,18 +117,13 @@ fn bend_constraint(b: Bend, p0: vec3<f32>, p1: vec3<f32>, p2: vec3<f32>, p3: vec
     return out;
 }
 
-fn element_particles(j: u32) -> array<u32, ARITY> {
-    let b = bends[j];
-    return array<u32, ARITY>(b.p0, b.p1, b.p2, b.p3);
-}
-
 fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
-    let pr = bend_constraint(bends[j], p[0], p[1], p[2], p[3]);
+    let pr = bend_constraint(elements[j], p[0], p[1], p[2], p[3]);
     return Proj(pr.c, pr.alpha, array<vec3<f32>, ARITY>(pr.dh.g0, pr.dh.g1, pr.dh.g2, pr.dh.g3));
 }
 
 fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
-    let b = bends[j];
+    let b = elements[j];
     let d = wrapped(dihedral(p[0], p[1], p[2], p[3]).theta, b.rest_angle);
     return 0.5 * b.k * d * d;
 }
@@ -140,7 +132,7 @@ fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
 // arguments scaled by |e|, |∇x₂θ|² = |e|²/|n₁|². Returns false, changing nothing, where the element
 // is degenerate; the general update then runs.
 fn element_plain(j: u32, e: Gathered) -> bool {
-    let b = bends[j];
+    let b = elements[j];
     let x0 = e.p[0].xyz;
     let x1 = e.p[1].xyz;
     let x2 = e.p[2].xyz;

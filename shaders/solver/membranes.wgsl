@@ -4,23 +4,16 @@
 // [∇x₁ ∇x₂] = A₀ P D_m⁻ᵀ, ∇x₀ = −Σ. Compliant form: C = √(2E/s), α = 1/s, ∇C = ∇E/(s C).
 
 struct Membrane {
-    p0: u32,
-    p1: u32,
-    p2: u32,
+    p: array<u32, ARITY>,
     // Rest area A₀ (m²).
     area: f32,
     // D_m⁻¹ by columns (1/m).
     dm_inv: vec4<f32>,
 }
 
-@group(1) @binding(0) var<storage, read> membranes: array<Membrane>;
+alias Element = Membrane;
 
 const ARITY: u32 = 3u;
-
-fn element_particles(j: u32) -> array<u32, ARITY> {
-    let m = membranes[j];
-    return array<u32, ARITY>(m.p0, m.p1, m.p2);
-}
 
 struct MembraneState {
     // Columns of F.
@@ -55,12 +48,12 @@ fn membrane_energy(m: Membrane, st: MembraneState) -> f32 {
 }
 
 fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
-    let m = membranes[j];
+    let m = elements[j];
     return membrane_energy(m, membrane_state(m, p));
 }
 
 fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
-    let m = membranes[j];
+    let m = elements[j];
     let st = membrane_state(m, p);
     let s = st.stress;
     let pu = st.fu * s.x + st.fv * s.z;

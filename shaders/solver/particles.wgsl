@@ -134,14 +134,9 @@ fn local_snapshot(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_wo
 // Partial sums of kinetic and gravitational energy (about the rest centre of mass) and of the
 // dissipated work, over free particles.
 @compute @workgroup_size(64)
-fn energy_particles(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) ng: vec3<u32>,
-) {
+fn energy_particles(r: Reducer) {
     var acc = vec4<f32>(0.0);
-    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+    for (var i = r.gid.x; i < params.num_particles; i += stride(r.ng)) {
         let p = x[i];
         let vel = v[i];
         if (p.w > 0.0) {
@@ -151,10 +146,7 @@ fn energy_particles(
         }
         acc.w += vel.w;
     }
-    let total = reduce_workgroup(lid.x, acc);
-    if (lid.x == 0u) {
-        partials[PARTIAL_PARTICLES + wid.x] = total;
-    }
+    store_partial(r, PARTIAL_PARTICLES, acc);
 }
 
 fn reduce_count(n: u32) -> u32 {

@@ -18,44 +18,26 @@ const PROJECTION_EPSILON: f32 = 1.0;
 const GPU_PROJECTION_ROUNDING: f32 = 1e-4;
 
 @compute @workgroup_size(64)
-fn projection_moments(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) ng: vec3<u32>,
-) {
+fn projection_moments(r: Reducer) {
     // M, Σ m q; Σ m v, pinned particles; Σ m q × v, Σ m qx²; Σ m (qy², qz², qx qy, qx qz); Σ m qy qz.
-    var a0 = vec4<f32>(0.0);
-    var a1 = vec4<f32>(0.0);
-    var a2 = vec4<f32>(0.0);
-    var a3 = vec4<f32>(0.0);
-    var a4 = vec4<f32>(0.0);
-    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+    var a = array<vec4<f32>, 5>();
+    for (var i = r.gid.x; i < params.num_particles; i += stride(r.ng)) {
         let p = x[i];
         if (p.w > 0.0) {
             let m = 1.0 / p.w;
             let q = p.xyz - params.rest_com.xyz;
             let vel = v[i].xyz;
-            a0 += vec4<f32>(m, m * q);
-            a1 += vec4<f32>(m * vel, 0.0);
-            a2 += vec4<f32>(m * cross(q, vel), m * q.x * q.x);
-            a3 += m * vec4<f32>(q.y * q.y, q.z * q.z, q.x * q.y, q.x * q.z);
-            a4.x += m * q.y * q.z;
+            a[0] += vec4<f32>(m, m * q);
+            a[1] += vec4<f32>(m * vel, 0.0);
+            a[2] += vec4<f32>(m * cross(q, vel), m * q.x * q.x);
+            a[3] += m * vec4<f32>(q.y * q.y, q.z * q.z, q.x * q.y, q.x * q.z);
+            a[4].x += m * q.y * q.z;
         } else {
-            a1.w += 1.0;
+            a[1].w += 1.0;
         }
     }
-    var sums = array<vec4<f32>, 5>(
-        reduce_workgroup(lid.x, a0),
-        reduce_workgroup(lid.x, a1),
-        reduce_workgroup(lid.x, a2),
-        reduce_workgroup(lid.x, a3),
-        reduce_workgroup(lid.x, a4),
-    );
-    if (lid.x == 0u) {
-        for (var k = 0u; k < 5u; k++) {
-            partials[PARTIAL_MOMENTS + k * REDUCE_GROUPS + wid.x] = sums[k];
-        }
+    for (var k = 0u; k < 5u; k++) {
+        store_partial(r, PARTIAL_MOMENTS + k * REDUCE_GROUPS, a[k]);
     }
 }
 
@@ -147,24 +129,16 @@ fn rigid_now(q: vec3<f32>) -> vec3<f32> {
 }
 
 @compute @workgroup_size(64)
-fn projection_deform(
-    @builtin(global_invocation_id) gid: vec3<u32>,
-    @builtin(local_invocation_id) lid: vec3<u32>,
-    @builtin(workgroup_id) wid: vec3<u32>,
-    @builtin(num_workgroups) ng: vec3<u32>,
-) {
+fn projection_deform(r: Reducer) {
     var acc = 0.0;
-    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
+    for (var i = r.gid.x; i < params.num_particles; i += stride(r.ng)) {
         let p = x[i];
         if (p.w > 0.0) {
             let d = v[i].xyz - rigid_now(p.xyz - params.rest_com.xyz);
             acc += 0.5 * dot(d, d) / p.w;
         }
     }
-    let total = reduce_workgroup(lid.x, vec4<f32>(acc, 0.0, 0.0, 0.0));
-    if (lid.x == 0u) {
-        partials[PARTIAL_MOMENTS + wid.x] = total;
-    }
+    store_partial(r, PARTIAL_MOMENTS, vec4<f32>(acc, 0.0, 0.0, 0.0));
 }
 
 // The scale s for a gap (J) in the scaled kinetic energy k_scaled, with k the whole kinetic

@@ -2,25 +2,20 @@
 // d = x_b − x_a. The family's part of the shared element kernels (shaders/common/element.wgsl),
 // with two particles: ∇_b C = g, ∇_a C = −g.
 
+// Particles a and b, rest length l₀ (m), stiffness k.
 struct Spring {
-    a: u32,
-    b: u32,
+    p: array<u32, ARITY>,
     rest: f32,
     k: f32,
 }
 
-@group(1) @binding(0) var<storage, read> springs: array<Spring>;
+alias Element = Spring;
 
 const ARITY: u32 = 2u;
 
-fn element_particles(j: u32) -> array<u32, ARITY> {
-    let s = springs[j];
-    return array<u32, ARITY>(s.a, s.b);
-}
-
 // C, ∇C and α of spring j in the current form and material (mirrors Spring::constraint).
 fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
-    let s = springs[j];
+    let s = elements[j];
     let d = p[1] - p[0];
     let len = sqrt(dot(d, d));
     let l0 = s.rest;
@@ -55,7 +50,7 @@ fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
 
 // Material energy of spring j (mirrors Spring::energy).
 fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
-    let s = springs[j];
+    let s = elements[j];
     let d = p[1] - p[0];
     let len = sqrt(dot(d, d));
     var q = len - s.rest;
@@ -72,7 +67,7 @@ fn element_plain(j: u32, e: Gathered) -> bool {
     if (params.material == MATERIAL_STVK) {
         return false;
     }
-    let s = springs[j];
+    let s = elements[j];
     let xa = e.p[0];
     let xb = e.p[1];
     let d = xb.xyz - xa.xyz;
@@ -84,7 +79,7 @@ fn element_plain(j: u32, e: Gathered) -> bool {
     }
     let q = (s.rest - len - alpha_tilde * lambda[j]) * params.sor / (denom * len);
     lambda[j] = lambda[j] + q * len;
-    x[s.a] = vec4<f32>(xa.xyz - d * (xa.w * q), xa.w);
-    x[s.b] = vec4<f32>(xb.xyz + d * (xb.w * q), xb.w);
+    x[e.idx[0]] = vec4<f32>(xa.xyz - d * (xa.w * q), xa.w);
+    x[e.idx[1]] = vec4<f32>(xb.xyz + d * (xb.w * q), xb.w);
     return true;
 }

@@ -3,10 +3,7 @@
 // ∇C = ∇E/(s C), skipped for the iteration when C vanishes or is not finite.
 
 struct Tet {
-    p0: u32,
-    p1: u32,
-    p2: u32,
-    p3: u32,
+    p: array<u32, ARITY>,
     // D_m⁻¹ by columns.
     dm_inv: array<f32, 9>,
     // Rest volume V₀ (m³).
@@ -15,14 +12,10 @@ struct Tet {
     pad1: u32,
 }
 
-@group(1) @binding(0) var<storage, read> tets: array<Tet>;
+alias Element = Tet;
 
 const ARITY: u32 = 4u;
 
-fn element_particles(j: u32) -> array<u32, ARITY> {
-    let t = tets[j];
-    return array<u32, ARITY>(t.p0, t.p1, t.p2, t.p3);
-}
 
 fn rest_inverse(t: Tet) -> mat3x3<f32> {
     let m = t.dm_inv;
@@ -34,12 +27,12 @@ fn deformation(t: Tet, p: array<vec3<f32>, ARITY>) -> mat3x3<f32> {
 }
 
 fn element_energy(j: u32, p: array<vec3<f32>, ARITY>) -> f32 {
-    let t = tets[j];
+    let t = elements[j];
     return t.volume * material_stress(deformation(t, p)).psi;
 }
 
 fn element_project(j: u32, p: array<vec3<f32>, ARITY>) -> Proj {
-    let t = tets[j];
+    let t = elements[j];
     let st = material_stress(deformation(t, p));
     let h = st.p * transpose(rest_inverse(t));
     let v = t.volume;

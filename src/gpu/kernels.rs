@@ -161,12 +161,13 @@ fn uniform(binding: u32, dynamic: bool) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn layout(device: &wgpu::Device, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
+/// A bind group layout of `entries`.
+pub fn layout(device: &wgpu::Device, label: &str, entries: &[wgpu::BindGroupLayoutEntry]) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries })
 }
 
 /// A compute pipeline for `entry` of `module` with the given groups.
-fn pipeline(
+pub fn pipeline(
     device: &wgpu::Device,
     module: &wgpu::ShaderModule,
     label: &str,

@@ -11,7 +11,9 @@ pub mod shaders;
 mod solver;
 
 pub use context::GpuContext;
-pub use kernels::{FamilyKind, Kernels, shader_module, storage_entry};
+pub use kernels::{
+    FamilyKind, Kernels, layout as bind_group_layout, pipeline as compute_pipeline, shader_module, storage_entry,
+};
 pub use layout::{DispatchRange, GpuLedger, GpuProjection, GpuSphere, SimParams};
 pub use memory::GpuMemory;
 pub use readback::{map_and_copy, read_buffer};

@@ -1,37 +1,28 @@
 //! WGSL sources, composed from `shaders/common/` and one stage file each, embedded at build time.
 
+/// A constraint family's module: the shared types and family bindings, the family's own files
+/// (paths under `shaders/`), then the shared element kernels.
+macro_rules! family_module {
+    ($($file:literal),+) => {
+        concat!(
+            include_str!("../../shaders/common/types.wgsl"),
+            include_str!("../../shaders/common/family.wgsl"),
+            $(include_str!(concat!("../../shaders/", $file)),)+
+            include_str!("../../shaders/common/element.wgsl")
+        )
+    };
+}
+
 /// Springs: the shared element kernels with two particles.
-pub const SPRINGS: &str = concat!(
-    include_str!("../../shaders/common/types.wgsl"),
-    include_str!("../../shaders/common/family.wgsl"),
-    include_str!("../../shaders/solver/springs.wgsl"),
-    include_str!("../../shaders/common/element.wgsl")
-);
+pub const SPRINGS: &str = family_module!("solver/springs.wgsl");
 /// Dihedral bending kernels.
-pub const BENDING: &str = concat!(
-    include_str!("../../shaders/common/types.wgsl"),
-    include_str!("../../shaders/common/family.wgsl"),
-    include_str!("../../shaders/solver/bending.wgsl"),
-    include_str!("../../shaders/common/element.wgsl")
-);
+pub const BENDING: &str = family_module!("solver/bending.wgsl");
 /// Tetrahedra with the 3D elastic models: the shared element kernels over signed SVD and the
 /// models' energy and stress.
-pub const TETS: &str = concat!(
-    include_str!("../../shaders/common/types.wgsl"),
-    include_str!("../../shaders/common/family.wgsl"),
-    include_str!("../../shaders/material/svd.wgsl"),
-    include_str!("../../shaders/material/hyperdual.wgsl"),
-    include_str!("../../shaders/material/models.wgsl"),
-    include_str!("../../shaders/solver/tets.wgsl"),
-    include_str!("../../shaders/common/element.wgsl")
-);
+pub const TETS: &str =
+    family_module!("material/svd.wgsl", "material/hyperdual.wgsl", "material/models.wgsl", "solver/tets.wgsl");
 /// Anisotropic membrane triangles (orthotropic StVK).
-pub const MEMBRANES: &str = concat!(
-    include_str!("../../shaders/common/types.wgsl"),
-    include_str!("../../shaders/common/family.wgsl"),
-    include_str!("../../shaders/solver/membranes.wgsl"),
-    include_str!("../../shaders/common/element.wgsl")
-);
+pub const MEMBRANES: &str = family_module!("solver/membranes.wgsl");
 /// Per-particle kernels: predict, contacts, finish, Jacobi apply, the energy reduction and the
 /// energy-momentum projection.
 pub const PARTICLES: &str = concat!(

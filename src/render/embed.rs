@@ -3,7 +3,7 @@
 
 use wgpu::util::DeviceExt;
 
-use crate::gpu::{shader_module, shaders, storage_entry};
+use crate::gpu::{bind_group_layout, compute_pipeline, shader_module, shaders, storage_entry};
 use crate::scene::Embedding;
 
 /// The embed kernel with its buffers for one scene.
@@ -20,23 +20,10 @@ impl Embedder {
     /// The kernel for `embedding` over the particles in `particles` (`vec4` per particle).
     pub fn new(device: &wgpu::Device, embedding: &Embedding, particles: &wgpu::Buffer) -> Self {
         let count = embedding.bindings.len() as u32;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("embed"),
-            entries: &[storage_entry(0, true), storage_entry(1, true), storage_entry(2, false)],
-        });
+        let entries = [storage_entry(0, true), storage_entry(1, true), storage_entry(2, false)];
+        let layout = bind_group_layout(device, "embed", &entries);
         let module = shader_module(device, "embed", shaders::EMBED);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("embed"),
-            layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("embed"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            })),
-            module: &module,
-            entry_point: Some("embed"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, &module, "embed", "embed", &[Some(&layout)]);
         let bindings = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("bindings"),
             contents: bytemuck::cast_slice(&embedding.bindings),

@@ -145,18 +145,13 @@ impl Renderer {
             entries: &[storage(0, true), storage(1, true), storage(2, true), storage(3, true), storage(4, false)],
         });
         let normals_module = crate::gpu::shader_module(device, "normals", shaders::NORMALS);
-        let normals = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("vertex_normals"),
-            layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("normals"),
-                bind_group_layouts: &[Some(&normals_layout)],
-                immediate_size: 0,
-            })),
-            module: &normals_module,
-            entry_point: Some("vertex_normals"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let normals = crate::gpu::compute_pipeline(
+            device,
+            &normals_module,
+            "vertex_normals",
+            "vertex_normals",
+            &[Some(&normals_layout)],
+        );
         Renderer {
             camera_layout,
             uniform_layout,

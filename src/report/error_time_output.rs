@@ -46,6 +46,12 @@ fn write_csv(path: &Path, header: &str, rows: impl Iterator<Item = String>) -> R
     f.flush().map_err(io(path))
 }
 
+/// The columns that name a run: scene, the variant's columns, iterations, substeps and their
+/// product (the budget of projections per frame).
+fn run_columns(scene: &str, variant: &Variant, iterations: u32, substeps: u32) -> String {
+    format!("{scene},{},{iterations},{substeps},{}", variant_columns(variant), iterations * substeps)
+}
+
 /// Writes `error_vs_time.csv`, `error_vs_frame.csv`, `error_vs_time.png`,
 /// `error_vs_budget.png`, `error_vs_frame.png` and `error_vs_time.md` into `dir`.
 pub fn write_outputs(dir: &Path, study: &Study) -> Result<()> {
@@ -55,42 +61,39 @@ pub fn write_outputs(dir: &Path, study: &Study) -> Result<()> {
         &dir.join("error_vs_time.csv"),
         SWEEP_CSV_HEADER,
         study.rows.iter().map(|r| {
-            format!(
-                "{},{},{},{},{},{},{:.6e},{:.6e},{:.6e},{}",
-                o.scene,
-                variant_columns(&r.variant),
-                r.iterations,
-                r.substeps,
-                r.budget(),
-                o.frames,
-                r.seconds_per_frame,
-                r.error,
-                r.rms,
-                r.finite()
-            )
+            let run = run_columns(&o.scene, &r.variant, r.iterations, r.substeps);
+            format!("{run},{},{:.6e},{:.6e},{:.6e},{}", o.frames, r.seconds_per_frame, r.error, r.rms, r.finite())
         }),
     )?;
     write_csv(
         &dir.join("error_vs_frame.csv"),
         FRAME_CSV_HEADER,
         study.track.iter().map(|p| {
-            format!(
-                "{},{},{},{},{},{},{:.6e},{:.6e},{}",
-                o.scene,
-                variant_columns(&p.variant),
-                p.iterations,
-                p.substeps,
-                p.iterations * p.substeps,
-                p.frame,
-                p.error,
-                p.rms,
-                p.error.is_finite()
-            )
+            let run = run_columns(&o.scene, &p.variant, p.iterations, p.substeps);
+            format!("{run},{},{:.6e},{:.6e},{}", p.frame, p.error, p.rms, p.error.is_finite())
         }),
     )?;
     plots(dir, study)?;
     let md = dir.join("error_vs_time.md");
     std::fs::write(&md, markdown(study)).map_err(io(&md))
+}
+
+/// A table of one figure per variant and split (rows) and budget (columns), "–" where that
+/// run is missing.
+fn budget_table(s: &mut String, study: &Study, vs: &[Variant], cell: impl Fn(&Row) -> String) {
+    let budgets = &study.options.budgets;
+    let header: String = budgets.iter().map(|b| format!(" B = {b} |")).collect();
+    let _ = writeln!(s, "| variant | split |{header}\n|---|---|{}", "---|".repeat(budgets.len()));
+    for v in vs {
+        for &sp in &study.options.splits {
+            let c = curve(study, v, sp);
+            let cells: String = budgets
+                .iter()
+                .map(|&b| c.iter().find(|r| r.budget() == b).map_or(" – |".into(), |r| format!(" {} |", cell(r))))
+                .collect();
+            let _ = writeln!(s, "| {} | {} |{cells}", v.name(), sp.name());
+        }
+    }
 }
 
 fn variants(study: &Study) -> Vec<Variant> {
@@ -332,36 +335,9 @@ fn markdown(study: &Study) -> String {
     let _ = writeln!(s, "\nSmallest error of any run: {}.\n", describe(best));
 
     let _ = writeln!(s, "## Error after {} frames\n", o.frames);
-    let header: String = o.budgets.iter().map(|b| format!(" B = {b} |")).collect();
-    let _ = writeln!(s, "| variant | split |{header}\n|---|---|{}", "---|".repeat(o.budgets.len()));
-    for v in &vs {
-        for &sp in &o.splits {
-            let c = curve(study, v, sp);
-            let cells: String = o
-                .budgets
-                .iter()
-                .map(|&b| c.iter().find(|r| r.budget() == b).map_or(" – |".into(), |r| format!(" {} |", e2(r.error))))
-                .collect();
-            let _ = writeln!(s, "| {} | {} |{cells}", v.name(), sp.name());
-        }
-    }
+    budget_table(&mut s, study, &vs, |r| e2(r.error));
     let _ = writeln!(s, "\n## Milliseconds per frame\n");
-    let _ = writeln!(s, "| variant | split |{header}\n|---|---|{}", "---|".repeat(o.budgets.len()));
-    for v in &vs {
-        for &sp in &o.splits {
-            let c = curve(study, v, sp);
-            let cells: String = o
-                .budgets
-                .iter()
-                .map(|&b| {
-                    c.iter()
-                        .find(|r| r.budget() == b)
-                        .map_or(" – |".into(), |r| format!(" {} |", ms(r.seconds_per_frame)))
-                })
-                .collect();
-            let _ = writeln!(s, "| {} | {} |{cells}", v.name(), sp.name());
-        }
-    }
+    budget_table(&mut s, study, &vs, |r| ms(r.seconds_per_frame));
     let _ = writeln!(s, "\n![error against time](error_vs_time.png)\n\n![error against budget](error_vs_budget.png)\n");
 
     let _ = writeln!(s, "## Does the error fall with the budget?\n");

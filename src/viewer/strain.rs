@@ -7,7 +7,7 @@ use wgpu::util::DeviceExt;
 
 use crate::coloring::Incidence;
 use crate::constraints::{Element, gather};
-use crate::gpu::{shader_module, shaders, storage_entry};
+use crate::gpu::{compute_pipeline, shader_module, shaders, storage_entry};
 use crate::math::Vector;
 use crate::scene::{Family, Scene};
 
@@ -142,18 +142,7 @@ impl StrainPass {
             ],
         });
         let module = shader_module(device, "strain", shaders::STRAIN);
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("vertex_strain"),
-            layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some("strain"),
-                bind_group_layouts: &[Some(&layout)],
-                immediate_size: 0,
-            })),
-            module: &module,
-            entry_point: Some("vertex_strain"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, &module, "vertex_strain", "vertex_strain", &[Some(&layout)]);
         StrainPass { pipeline, bind_group, params, colors, n: n as u32 }
     }
 
