@@ -269,6 +269,9 @@ fn viewer_without_a_display_points_to_the_headless_commands() {
     let out = eapbd(&["view", "--screenshot", "x.png"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("--exit-after-frames"), "{err}");
+    let out = eapbd(&["view", "--msaa", "3", "--exit-after-frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--msaa") && err.contains("1, 2 or 4"), "{err}");
 }
 
 #[test]

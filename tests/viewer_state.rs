@@ -44,6 +44,24 @@ fn frame(ctx: &GpuContext, s: &mut Session, target: &OffscreenTarget) -> image::
 }
 
 #[test]
+fn keyboard_shortcuts_pause_step_and_reset() {
+    let mut s = start_state(Backend::Cpu);
+    assert!(!s.paused);
+    assert!(s.shortcut(' '));
+    assert!(s.paused && !s.requests.step);
+    assert!(s.shortcut(' '));
+    assert!(!s.paused);
+    // S pauses a running simulation and steps one frame.
+    assert!(s.shortcut('S'));
+    assert!(s.paused && s.requests.step);
+    assert!(s.shortcut('r'));
+    assert!(s.requests.reset);
+    let before = s.clone();
+    assert!(!s.shortcut('x'), "x is no shortcut");
+    assert_eq!(s, before);
+}
+
+#[test]
 fn widgets_change_the_solver_settings_on_the_next_frame() {
     // Drive the control panel as a user would: the iterations and stiffness sliders, the
     // energy-aware radio button.

@@ -35,6 +35,10 @@ pub struct ViewArgs {
     /// Write the last frame (panels included) to this PNG file; with --exit-after-frames.
     #[arg(long, requires = "exit_after_frames")]
     pub screenshot: Option<PathBuf>,
+    /// Multisampling of the scene: 1 (off), 2 or 4 samples per pixel. Default: 4 on a GPU, 1 on
+    /// a software adapter (such as lavapipe), where each sample costs CPU time.
+    #[arg(long)]
+    pub msaa: Option<u32>,
 }
 
 /// Runs the command.
@@ -53,6 +57,7 @@ pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
         height: a.height,
         exit_after_frames: a.exit_after_frames,
         screenshot: a.screenshot.clone(),
+        msaa: a.msaa,
     })?;
     Ok(())
 }

@@ -10,18 +10,17 @@ use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
 use super::capture::{FrameTargets, read_texture};
-use super::session::Session;
+use super::session::{Session, smooth};
 use super::state::ViewerState;
 use super::ui;
+use super::ui_cache::{UiCache, panel_rects};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
 use crate::render::save_png;
-
-/// Samples per pixel of the scene in the window.
-const SAMPLES: u32 = 4;
 
 /// How the viewer starts.
 #[derive(Clone, Debug)]
@@ -36,12 +35,23 @@ pub struct ViewerOptions {
     pub exit_after_frames: Option<u32>,
     /// Write the last frame (UI included) to this PNG file.
     pub screenshot: Option<PathBuf>,
+    /// Samples per pixel of the scene (1, 2 or 4); `None`: [`default_msaa`] for the adapter.
+    pub msaa: Option<u32>,
+}
+
+/// The multisampling a viewer gets unless told otherwise: 4 samples per pixel on a GPU, none on
+/// a software adapter, which rasterises every sample on the CPU.
+pub fn default_msaa(device_type: wgpu::DeviceType) -> u32 {
+    if device_type == wgpu::DeviceType::Cpu { 1 } else { 4 }
 }
 
 /// Opens the window and runs until it is closed (or `exit_after_frames` have been drawn).
 pub fn run(options: ViewerOptions) -> Result<()> {
     if options.exit_after_frames == Some(0) {
         return Err(Error::param("--exit-after-frames", 0, "must be at least 1"));
+    }
+    if let Some(n) = options.msaa.filter(|n| ![1, 2, 4].contains(n)) {
+        return Err(Error::param("--msaa", n, "must be 1, 2 or 4"));
     }
     if options.width == 0 || options.height == 0 {
         return Err(Error::param(
@@ -56,11 +66,15 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     event_loop.run_app(&mut app).map_err(|e| Error::NoDisplay(e.to_string()))?;
     if let (Some(t), Some(r)) = (app.started, &app.window) {
         let secs = t.elapsed().as_secs_f64();
+        let t = &r.session.timings;
+        let ms = |v: Option<f64>| v.map_or("–".into(), |ms| format!("{ms:.2}"));
         eprintln!(
-            "viewer: {} frames in {secs:.2} s ({:.1} FPS), solver {} ms/frame, on {}",
+            "viewer: {} frames in {secs:.2} s ({:.1} FPS); ms/frame: solver {}, panels {}, drawing {}; on {}",
             app.frames,
             app.frames as f64 / secs.max(1e-9),
-            r.session.timings.solver_ms.map_or("–".into(), |ms| format!("{ms:.2}")),
+            ms(t.solver_ms),
+            ms(t.ui_ms),
+            ms(t.draw_ms),
             r.session.info().adapter
         );
     }
@@ -98,6 +112,10 @@ struct Running {
     reconfigure: bool,
     /// The last frame's UI, drawn again by the screenshot.
     last_paint: Option<(Vec<egui::ClippedPrimitive>, egui_wgpu::ScreenDescriptor)>,
+    /// The panels' image between changes (software adapters, where egui's pass is costly).
+    ui_cache: Option<UiCache>,
+    /// Input egui took, a resize or a repaint egui asked for since the panels were last drawn.
+    ui_changed: bool,
 }
 
 struct App {
@@ -112,6 +130,28 @@ impl App {
     fn fail(&mut self, event_loop: &ActiveEventLoop, e: Error) {
         self.error = Some(e);
         event_loop.exit();
+    }
+
+    /// Draws a frame; after the last one (`exit_after_frames`) writes the screenshot and exits.
+    fn redrawn(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(r) = &mut self.window else { return };
+        match r.redraw() {
+            Ok(true) => {
+                self.frames += 1;
+                if self.options.exit_after_frames.is_some_and(|n| self.frames >= n) {
+                    let result = match &self.options.screenshot {
+                        Some(path) => r.screenshot(path),
+                        None => Ok(()),
+                    };
+                    if let Err(e) = result {
+                        self.error = Some(e);
+                    }
+                    event_loop.exit();
+                }
+            }
+            Ok(false) => {}
+            Err(e) => self.fail(event_loop, e),
+        }
     }
 }
 
@@ -133,31 +173,45 @@ impl ApplicationHandler for App {
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         let Some(r) = &mut self.window else { return };
         let egui_response = r.egui_state.on_window_event(&r.window, &event);
+        // Pointer events over the scene change nothing in the panels (their hover state catches
+        // up at the next refresh); anything else egui asks a repaint for does.
+        let pointer = matches!(
+            event,
+            WindowEvent::CursorMoved { .. } | WindowEvent::MouseInput { .. } | WindowEvent::MouseWheel { .. }
+        );
+        let over_scene = pointer && r.in_scene(r.cursor) && !r.egui_ctx.egui_is_using_pointer();
+        let redraw = matches!(event, WindowEvent::RedrawRequested);
+        if egui_response.repaint && !over_scene && !redraw {
+            r.ui_changed = true;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::Resized(size) => r.resize(size),
-            WindowEvent::RedrawRequested => match r.redraw() {
-                Ok(true) => {
-                    self.frames += 1;
-                    if self.options.exit_after_frames.is_some_and(|n| self.frames >= n) {
-                        let result = match &self.options.screenshot {
-                            Some(path) => r.screenshot(path),
-                            None => Ok(()),
-                        };
-                        if let Err(e) = result {
-                            self.error = Some(e);
-                        }
-                        event_loop.exit();
-                    }
-                }
-                Ok(false) => {}
-                Err(e) => self.fail(event_loop, e),
-            },
+            WindowEvent::RedrawRequested => {
+                // The last frame's panels are drawn fresh: the screenshot shows its figures.
+                let last = self.options.exit_after_frames.is_some_and(|n| self.frames + 1 >= n);
+                r.ui_changed |= last;
+                self.redrawn(event_loop);
+            }
             WindowEvent::CursorMoved { position, .. } => {
                 let p = Vec2::new(position.x as f32, position.y as f32);
                 r.mouse_moved(p);
             }
             WindowEvent::MouseInput { state, button, .. } => r.mouse_button(state, button, egui_response.consumed),
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state == ElementState::Pressed
+                    && !egui_response.consumed
+                    && !r.egui_ctx.egui_wants_keyboard_input() =>
+            {
+                let key = match &event.logical_key {
+                    Key::Named(NamedKey::Space) => Some(' '),
+                    Key::Character(c) => c.chars().next(),
+                    _ => None,
+                };
+                if let Some(k) = key {
+                    r.session.state.shortcut(k);
+                }
+            }
             WindowEvent::MouseWheel { delta, .. } if !egui_response.consumed && r.in_scene(r.cursor) => {
                 let steps = match delta {
                     MouseScrollDelta::LineDelta(_, y) => y,
@@ -199,8 +253,11 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         .or_else(|| caps.formats.first().copied())
         .ok_or_else(|| Error::Gpu("the surface offers no format".into()))?;
     let size = window.inner_size();
+    let software = ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
+    let cached = software && caps.usages.contains(wgpu::TextureUsages::COPY_DST);
+    let copy = if cached { wgpu::TextureUsages::COPY_DST } else { wgpu::TextureUsages::empty() };
     let config = wgpu::SurfaceConfiguration {
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | copy,
         format,
         width: size.width.max(1),
         height: size.height.max(1),
@@ -211,7 +268,8 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         color_space: wgpu::SurfaceColorSpace::Auto,
     };
     surface.configure(&ctx.device, &config);
-    let session = Session::new(&ctx, format, SAMPLES, o.state.clone())?;
+    let samples = o.msaa.unwrap_or_else(|| default_msaa(ctx.adapter.get_info().device_type));
+    let session = Session::new(&ctx, format, samples, o.state.clone())?;
     let egui_ctx = egui::Context::default();
     egui_ctx.set_theme(egui::Theme::Dark);
     let egui_state = egui_winit::State::new(
@@ -223,7 +281,8 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         Some(ctx.device.limits().max_texture_dimension_2d as usize),
     );
     let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
-    let targets = FrameTargets::new(&ctx.device, format, config.width, config.height, SAMPLES);
+    let targets = FrameTargets::new(&ctx.device, format, config.width, config.height, samples);
+    let ui_cache = cached.then(|| UiCache::new(&ctx.device, format, config.width, config.height));
     Ok(Running {
         viewport: [0.0, 0.0, config.width as f32, config.height as f32],
         window,
@@ -240,6 +299,8 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         last_frame: None,
         last_paint: None,
         reconfigure: false,
+        ui_cache,
+        ui_changed: true,
     })
 }
 
@@ -252,7 +313,12 @@ impl Running {
         self.config.width = size.width;
         self.config.height = size.height;
         self.surface.configure(&self.ctx.device, &self.config);
-        self.targets = FrameTargets::new(&self.ctx.device, self.config.format, size.width, size.height, SAMPLES);
+        let samples = self.targets.samples;
+        self.targets = FrameTargets::new(&self.ctx.device, self.config.format, size.width, size.height, samples);
+        if self.ui_cache.is_some() {
+            self.ui_cache = Some(UiCache::new(&self.ctx.device, self.config.format, size.width, size.height));
+        }
+        self.ui_changed = true;
     }
 
     fn in_scene(&self, p: Vec2) -> bool {
@@ -349,13 +415,49 @@ impl Running {
             return Ok(false);
         }
         let view = frame.texture.create_view(&Default::default());
-        let (paint, screen) = self.run_ui();
+        let now = Instant::now();
+        let changed = std::mem::take(&mut self.ui_changed);
+        let ui = if self.ui_cache.as_ref().is_none_or(|c| c.stale(changed, now)) {
+            let (paint, screen) = self.run_ui();
+            let t = &mut self.session.timings;
+            t.ui_ms = Some(smooth(t.ui_ms, now.elapsed().as_secs_f64() * 1e3));
+            Some((paint, screen))
+        } else {
+            None
+        };
+        let draw_start = Instant::now();
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         self.session.apply_changes(&self.ctx);
         self.session.encode_frame(&mut encoder, self.targets.views(&view), self.viewport)?;
-        let user_buffers =
-            self.egui_renderer.update_buffers(&self.ctx.device, &self.ctx.queue, &mut encoder, &paint, &screen);
-        encode_ui(&self.egui_renderer, &mut encoder, &view, &paint, &screen);
+        let solver_wall = self.session.timings.cpu_solve_ms;
+        let mut user_buffers = Vec::new();
+        if let Some((paint, screen)) = &ui {
+            user_buffers =
+                self.egui_renderer.update_buffers(&self.ctx.device, &self.ctx.queue, &mut encoder, paint, screen);
+        }
+        match (&ui, &mut self.ui_cache) {
+            (Some((paint, screen)), Some(cache)) => {
+                let ppp = screen.pixels_per_point;
+                let clips: Vec<[f32; 4]> = paint.iter().map(|p| painted_rect(p).map(|v| v * ppp)).collect();
+                match panel_rects(self.viewport, self.config.width, self.config.height, &clips) {
+                    Some(rects) => {
+                        let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+                        encode_ui(&self.egui_renderer, &mut encoder, cache.view(), paint, screen, clear);
+                        cache.drawn(Some(rects), now);
+                        cache.copy_to(&mut encoder, &frame.texture);
+                    }
+                    None => {
+                        encode_ui(&self.egui_renderer, &mut encoder, &view, paint, screen, wgpu::LoadOp::Load);
+                        cache.drawn(None, now);
+                    }
+                }
+            }
+            (Some((paint, screen)), None) => {
+                encode_ui(&self.egui_renderer, &mut encoder, &view, paint, screen, wgpu::LoadOp::Load);
+            }
+            (None, Some(cache)) => cache.copy_to(&mut encoder, &frame.texture),
+            (None, None) => {}
+        }
         self.ctx.queue.submit(user_buffers.into_iter().chain([encoder.finish()]));
         self.session.after_submit();
         self.window.pre_present_notify();
@@ -364,7 +466,12 @@ impl Running {
             self.resize(self.window.inner_size());
         }
         self.session.poll();
-        self.last_paint = Some((paint, screen));
+        let draw_ms = draw_start.elapsed().as_secs_f64() * 1e3 - solver_wall;
+        let t = &mut self.session.timings;
+        t.draw_ms = Some(smooth(t.draw_ms, draw_ms));
+        if ui.is_some() {
+            self.last_paint = ui;
+        }
         Ok(true)
     }
 
@@ -375,6 +482,10 @@ impl Running {
         let (state, stats) = self.session.ui_parts();
         let mut output = self.egui_ctx.run_ui(input, |ui| rect = ui::panels(ui, state, &stats));
         self.egui_state.handle_platform_output(&self.window, std::mem::take(&mut output.platform_output));
+        // An animation (a panel opening, a widget fading) wants the next frame drawn too.
+        if output.viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.repaint_delay.is_zero()) {
+            self.ui_changed = true;
+        }
         let ppp = output.pixels_per_point;
         let paint = self.egui_ctx.tessellate(std::mem::take(&mut output.shapes), ppp);
         let mut delta = std::mem::take(&mut output.textures_delta);
@@ -415,7 +526,7 @@ impl Running {
         self.session.encode_scene_only(&mut encoder, self.targets.views(&view));
         let user_buffers =
             self.egui_renderer.update_buffers(&self.ctx.device, &self.ctx.queue, &mut encoder, &paint, &screen);
-        encode_ui(&self.egui_renderer, &mut encoder, &view, &paint, &screen);
+        encode_ui(&self.egui_renderer, &mut encoder, &view, &paint, &screen, wgpu::LoadOp::Load);
         self.ctx.queue.submit(user_buffers.into_iter().chain([encoder.finish()]));
         let img = read_texture(&self.ctx.device, &self.ctx.queue, &texture)?;
         save_png(&img, path)?;
@@ -423,13 +534,26 @@ impl Running {
     }
 }
 
-/// Records egui's paint jobs over what is already in `view`.
+/// Where a paint job draws (points `[x0, y0, x1, y1]`): its mesh's bounds within its clip
+/// rectangle (the clip rectangle for a callback).
+fn painted_rect(p: &egui::ClippedPrimitive) -> [f32; 4] {
+    let clip = p.clip_rect;
+    let bounds = match &p.primitive {
+        egui::epaint::Primitive::Mesh(m) => m.calc_bounds(),
+        egui::epaint::Primitive::Callback(_) => clip,
+    };
+    let r = bounds.intersect(clip);
+    if r.is_positive() { [r.min.x, r.min.y, r.max.x, r.max.y] } else { [0.0; 4] }
+}
+
+/// Records egui's paint jobs into `view`, over what is there (`LoadOp::Load`) or cleared.
 fn encode_ui(
     r: &egui_wgpu::Renderer,
     encoder: &mut wgpu::CommandEncoder,
     view: &wgpu::TextureView,
     paint: &[egui::ClippedPrimitive],
     screen: &egui_wgpu::ScreenDescriptor,
+    load: wgpu::LoadOp<wgpu::Color>,
 ) {
     let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
         label: Some("egui"),
@@ -437,7 +561,7 @@ fn encode_ui(
             view,
             depth_slice: None,
             resolve_target: None,
-            ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+            ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
         })],
         depth_stencil_attachment: None,
         timestamp_writes: None,

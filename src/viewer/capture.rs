@@ -11,6 +11,8 @@ pub struct FrameTargets {
     pub width: u32,
     /// Height (px).
     pub height: u32,
+    /// Samples per pixel (1: no multisampling).
+    pub samples: u32,
     format: wgpu::TextureFormat,
     msaa: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
@@ -24,7 +26,7 @@ impl FrameTargets {
         let msaa = (samples > 1)
             .then(|| texture(device, size.0, size.1, samples, format, attach).create_view(&Default::default()));
         let depth = texture(device, size.0, size.1, samples, DEPTH_FORMAT, attach).create_view(&Default::default());
-        FrameTargets { width, height, format, msaa, depth }
+        FrameTargets { width, height, samples, format, msaa, depth }
     }
 
     /// The views of a frame resolving into `target`.

@@ -18,6 +18,7 @@ pub mod session;
 pub mod state;
 pub mod strain;
 pub mod ui;
+pub mod ui_cache;
 
 pub use app::{ViewerOptions, run};
 pub use readback::{Snapshot, StatsReadback};

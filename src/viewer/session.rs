@@ -47,9 +47,19 @@ pub struct Timings {
     /// Solver time per frame (ms): wall time on the CPU backend, GPU timestamps on the GPU one
     /// (`None` where the device has none).
     pub solver_ms: Option<f64>,
+    /// Laying out and tessellating the panels on the CPU (ms per frame, set by the caller).
+    pub ui_ms: Option<f64>,
+    /// Recording the scene and the panels, submitting and presenting (ms per frame, set by the
+    /// caller, the solver's share on the CPU backend excluded): on a software adapter this
+    /// includes rasterising whenever the swap chain waits for a free image.
+    pub draw_ms: Option<f64>,
+    /// Wall time of the last frame's CPU solve (ms; 0 on the GPU backend or when paused): what
+    /// the caller leaves out of `draw_ms`.
+    pub cpu_solve_ms: f64,
 }
 
-fn smooth(old: Option<f64>, new: f64) -> f64 {
+/// An exponential moving average (weight 0.1 on the new value); the first value as is.
+pub fn smooth(old: Option<f64>, new: f64) -> f64 {
     match old {
         Some(o) if o.is_finite() => o + 0.1 * (new - o),
         _ => new,
@@ -314,6 +324,7 @@ impl Session {
             self.frame += 1;
             self.last_settings = Some(settings);
         }
+        self.timings.cpu_solve_ms = 0.0;
         match &mut self.sim {
             Simulation::Cpu(c) => {
                 if step {
@@ -321,6 +332,7 @@ impl Session {
                     c.step_frame(&settings);
                     let ms = t.elapsed().as_secs_f64() * 1e3;
                     self.timings.solver_ms = Some(smooth(self.timings.solver_ms, ms));
+                    self.timings.cpu_solve_ms = ms;
                 }
                 let stats = FrameStats::measure(c, self.frame, 0.0);
                 self.history.push(Sample::from(&stats));

@@ -269,6 +269,21 @@ pub struct ViewerState {
 }
 
 impl ViewerState {
+    /// A keyboard shortcut: space pauses or runs, `s` steps one frame (pausing first), `r`
+    /// resets the scene. Returns whether `key` is one.
+    pub fn shortcut(&mut self, key: char) -> bool {
+        match key.to_ascii_lowercase() {
+            ' ' => self.paused = !self.paused,
+            's' => {
+                self.paused = true;
+                self.requests.step = true;
+            }
+            'r' => self.requests.reset = true,
+            _ => return false,
+        }
+        true
+    }
+
     /// The state for a scene choice, settings and backend.
     pub fn new(choice: SceneChoice, settings: Settings, backend: Backend) -> Self {
         ViewerState {

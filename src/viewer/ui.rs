@@ -204,13 +204,14 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
 fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
     ui.horizontal(|ui| {
         let label = if state.paused { "Run" } else { "Pause" };
-        if ui.button(label).clicked() {
+        if ui.button(label).on_hover_text("Pause or run the simulation (space)").clicked() {
             state.paused = !state.paused;
         }
-        if ui.add_enabled(state.paused, egui::Button::new("Step")).clicked() {
+        let step = ui.add_enabled(state.paused, egui::Button::new("Step"));
+        if step.on_hover_text("One frame while paused (S)").clicked() {
             state.requests.step = true;
         }
-        if ui.button("Reset").clicked() {
+        if ui.button("Reset").on_hover_text("Back to the scene's start (R)").clicked() {
             state.requests.reset = true;
         }
         if ui.button("Camera").clicked() {
@@ -264,6 +265,9 @@ pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
             "Solver",
             v.timings.solver_ms.map_or("–".into(), |ms| format!("{ms:.2} ms/frame ({})", state.backend.name())),
         );
+        let ms = |t: Option<f64>| t.map_or("–".into(), |ms| format!("{ms:.2} ms/frame"));
+        row("Panels", ms(v.timings.ui_ms));
+        row("Drawing", ms(v.timings.draw_ms));
         row("Frame", v.frame.to_string());
         row("Particles", info.particles.to_string());
         row("Constraints", info.constraints.to_string());
