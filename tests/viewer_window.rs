@@ -80,7 +80,7 @@ fn viewer_window_draws_panels_and_scene() {
     let out = std::env::temp_dir().join(format!("eapbd-viewer-{}.png", std::process::id()));
     let _ = std::fs::remove_file(&out);
     let mut child = Command::new(env!("CARGO_BIN_EXE_eapbd"))
-        .args(["view", "--scene", "cloth-paper", "--exit-after-frames", "120", "--screenshot"])
+        .args(["view", "--scene", "cloth-paper", "--backend", "gpu", "--exit-after-frames", "120", "--screenshot"])
         .arg(&out)
         .args(["--width", &WIDTH.to_string(), "--height", &HEIGHT.to_string()])
         .env("DISPLAY", &display)

@@ -14,9 +14,10 @@ pub struct ViewArgs {
     /// Scene and solver options at the start (all of them can be changed in the window).
     #[command(flatten)]
     pub scene: SceneArgs,
-    /// Solver backend: gpu or cpu.
-    #[arg(long, default_value = "gpu", value_parser = named::<Backend>)]
-    pub backend: Backend,
+    /// Solver backend: gpu or cpu. Default: gpu on a GPU, cpu on a software adapter (such as
+    /// lavapipe), where the CPU solver is the faster of the two.
+    #[arg(long, value_parser = named::<Backend>)]
+    pub backend: Option<Backend>,
     /// Window width (px).
     #[arg(long, default_value_t = 1280)]
     pub width: u32,
@@ -48,7 +49,7 @@ pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
     // Refuse bad options here, with the flag's name, rather than in the window.
     eapbd::scene::build(&a.scene.scene, &options)?;
     let choice = SceneChoice::new(&a.scene.scene, &options)?;
-    let mut state = ViewerState::new(choice, settings, a.backend);
+    let mut state = ViewerState::new(choice, settings, a.backend.unwrap_or(Backend::Gpu));
     state.color_mode = a.color;
     state.wireframe = a.wireframe;
     eapbd::viewer::run(ViewerOptions {
@@ -58,6 +59,7 @@ pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
         exit_after_frames: a.exit_after_frames,
         screenshot: a.screenshot.clone(),
         msaa: a.msaa,
+        backend_given: a.backend.is_some(),
     })?;
     Ok(())
 }

@@ -59,6 +59,9 @@ fn log_slider<'a, N: egui::emath::Numeric>(
         .custom_formatter(|v, _| format!("{v:.3e}"))
 }
 
+/// The splits of 30 projections a frame offered as one click each: (name, substeps, iterations).
+pub const SPLITS: [(&str, u32, u32); 3] = [("paper", 1, 30), ("balanced", 10, 3), ("small steps", 30, 1)];
+
 /// The control panel: scene, material, solver, simulation buttons and view options.
 pub fn controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
     ui.heading("eapbd");
@@ -166,10 +169,25 @@ fn material_controls(ui: &mut Ui, state: &mut ViewerState) {
 fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
     ui.label(RichText::new("Solver").strong());
     let s = &mut state.settings;
-    ui.add(Slider::new(&mut s.iterations, 1..=200).logarithmic(true).text("Iterations"));
-    ui.add(Slider::new(&mut s.substeps, 1..=64).logarithmic(true).text("Substeps"));
-    ui.add(log_slider(&mut s.dt, 1.0 / 480.0..=1.0 / 15.0, "Time step", "s"));
-    ui.add(Slider::new(&mut s.damping, 0.0..=5.0).text("Damping").suffix(" 1/s"));
+    ui.add(Slider::new(&mut s.iterations, 1..=200).logarithmic(true).text("Iterations"))
+        .on_hover_text("Constraint projections per substep: the solve's work per substep.");
+    ui.add(Slider::new(&mut s.substeps, 1..=64).logarithmic(true).text("Substeps"))
+        .on_hover_text("Substeps per frame: each advances dt / substeps (s). More substeps converge better than more iterations at the same work.");
+    ui.horizontal_wrapped(|ui| {
+        ui.label("Split")
+            .on_hover_text("Substeps × iterations per frame: the same 30 projections divided differently.");
+        for (name, substeps, iterations) in SPLITS {
+            let on = s.substeps == substeps && s.iterations == iterations;
+            let text = format!("{name} ({substeps} × {iterations})");
+            if ui.selectable_label(on, text).clicked() {
+                (s.substeps, s.iterations) = (substeps, iterations);
+            }
+        }
+    });
+    ui.add(log_slider(&mut s.dt, 1.0 / 480.0..=1.0 / 15.0, "Time step", "s"))
+        .on_hover_text("The frame's time step dt (s).");
+    ui.add(Slider::new(&mut s.damping, 0.0..=5.0).text("Damping").suffix(" 1/s"))
+        .on_hover_text("Velocity damping β_v (1/s): v ← v max(1 − β_v h, 0) every substep.");
     ui.horizontal(|ui| {
         ui.label("Form");
         ui.radio_value(&mut s.form, Form::Compliant, "compliant");
@@ -188,12 +206,17 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
     }
     ui.horizontal_wrapped(|ui| {
         ui.label("Energy-aware");
-        ui.radio_value(&mut s.energy_aware, EnergyAware::Off, "off");
-        ui.radio_value(&mut s.energy_aware, EnergyAware::Local, "local");
-        ui.radio_value(&mut s.energy_aware, EnergyAware::Global, "global");
-        ui.radio_value(&mut s.energy_aware, EnergyAware::Project, "project (on)");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Off, "off").on_hover_text("Plain XPBD.");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Local, "local")
+            .on_hover_text("The paper's per-constraint energy-aware Gauss-Seidel.");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Global, "global")
+            .on_hover_text("A velocity scale per substep that balances the iterate's whole energy.");
+        ui.radio_value(&mut s.energy_aware, EnergyAware::Project, "project (on)").on_hover_text(
+            "After each frame, positions and velocities are projected back to the energy (and momenta) the frame \
+             started with, less what gravity, damping and contacts took.",
+        );
     });
-    ui.add(Slider::new(&mut s.sor, 0.1..=1.9).text("SOR ω"));
+    ui.add(Slider::new(&mut s.sor, 0.1..=1.9).text("SOR ω")).on_hover_text("Over-relaxation ω of every Δλ (1: none).");
     ui.horizontal(|ui| {
         ui.label("Backend");
         ui.radio_value(&mut state.backend, Backend::Gpu, "GPU");
@@ -253,6 +276,7 @@ fn view_controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
 /// The statistics panel: figures and live plots.
 pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
     ui.heading("Statistics");
+    egui::CollapsingHeader::new("What is on screen").show(ui, explanation);
     let info = v.info;
     egui::Grid::new("figures").num_columns(2).striped(true).show(ui, |ui| {
         let mut row = |name: &str, value: String| {
@@ -306,4 +330,20 @@ pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
     Plot::new("residual").height(90.0).allow_scroll(false).show(ui, |p| {
         p.line(Line::new("residual", h.series(|s| s.residual.max(1e-30).log10())));
     });
+}
+
+/// A few sentences on what the energy-aware settings do and what the figures are.
+fn explanation(ui: &mut Ui) {
+    ui.label(
+        "XPBD projects each constraint a fixed number of times a frame. When it stops short of \
+         convergence the body is left stretched beyond what its forces hold: that unresolved stretch \
+         (the dashed plot) is the solve's shortfall, not energy, so it is kept out of the total.",
+    );
+    ui.label(
+        "Total = kinetic + gravitational + elastic (the part the multipliers hold): \
+         H = ½ Σ m|v|² − Σ m g·x + E_held. Plain XPBD (off) loses kinetic energy to its numerical damping; \
+         'project' restores what the frame started with, less the work of gravity, damping and contacts, \
+         by an energy-momentum projection after each frame.",
+    );
+    ui.label("More: docs/energy-aware.md in the repository.");
 }
