@@ -69,6 +69,7 @@
 //! (feature `cli`) adds the command line and the bench.
 
 pub mod coloring;
+pub mod compare;
 pub mod constraints;
 pub mod error;
 pub mod gpu;

@@ -9,7 +9,7 @@ use eapbd::gpu::{GpuContext, Kernels};
 use eapbd::render::{Snapshotter, save_png};
 use eapbd::scene::{self, SceneOptions};
 use eapbd::simulation::{Backend, Simulation};
-use eapbd::solver::Settings;
+use eapbd::solver::{EnergyAware, Settings};
 
 const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
@@ -107,4 +107,43 @@ fn cpu_backend_draws_the_same_picture() {
     assert!(diff < 0.5, "CPU- and GPU-solved frames differ by {diff:.3} on average");
     let fraction = coverage(&cpu, &background);
     assert!(fraction > 0.05, "the CPU frame's cloth covers {:.1}%", 100.0 * fraction);
+}
+
+#[test]
+#[cfg(feature = "cli")]
+fn render_compare_draws_both_runs_side_by_side() {
+    // `eapbd render --compare energy-aware` on the hanging cloth at 10 × 3 after 5 s: off on
+    // the left, on (project) on the right, each half the run it is labelled with.
+    let out = std::env::temp_dir().join(format!("eapbd-compare-{}", std::process::id()));
+    let (w, h) = (WIDTH.to_string(), HEIGHT.to_string());
+    let args = ["render", "--compare", "energy-aware", "--scene", "cloth", "--substeps", "10", "--iterations", "3"];
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .args(args)
+        .args(["--frames", "300", "--every", "300", "--backend", "cpu", "--width", &w, "--height", &h])
+        .arg("--out")
+        .arg(&out)
+        .status()
+        .expect("the binary runs");
+    assert!(status.success());
+    let img = image::open(out.join("frame_00300.png")).unwrap().to_rgba8();
+    let _ = std::fs::remove_dir_all(&out);
+    assert_eq!(img.dimensions(), (2 * WIDTH, HEIGHT));
+    check_golden(&img, "compare_energy_aware_300.png");
+
+    // Each half is its run: the same frame drawn alone differs only where the label lies.
+    let base = Settings { substeps: 10, iterations: 3, ..Settings::default() };
+    for (i, energy_aware) in [EnergyAware::Off, EnergyAware::Project].into_iter().enumerate() {
+        let s = Settings { energy_aware, ..base };
+        let (alone, _) = render_scene("cloth", Backend::Cpu, 300, &s);
+        let below_label =
+            |img: &image::RgbaImage, x: u32| image::imageops::crop_imm(img, x, 48, WIDTH, HEIGHT - 48).to_image();
+        let diff = mean_abs_diff(&below_label(&img, WIDTH * i as u32), &below_label(&alone, 0));
+        println!("half {i}: {diff:.4} from its run drawn alone");
+        assert!(diff < 0.5, "half {i} differs from its run drawn alone by {diff:.3}");
+    }
+    let left = image::imageops::crop_imm(&img, 0, 0, WIDTH, HEIGHT).to_image();
+    let right = image::imageops::crop_imm(&img, WIDTH, 0, WIDTH, HEIGHT).to_image();
+    let apart = mean_abs_diff(&left, &right);
+    println!("off and on: {apart:.3} apart");
+    assert!(apart > 1.0, "off and on look the same after 5 s ({apart:.3})");
 }

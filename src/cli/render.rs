@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use clap::Args;
+use eapbd::compare::Compare;
 use eapbd::gpu::{GpuContext, Kernels};
 use eapbd::render::{Snapshotter, save_png};
 use eapbd::simulation::{Backend, Simulation};
@@ -35,6 +36,11 @@ pub struct RenderArgs {
     /// Image height (px).
     #[arg(long, default_value_t = 600)]
     pub height: u32,
+    /// Two runs side by side that differ in one setting, each half `--width` wide and
+    /// labelled: energy-aware (off | on), split (1 × 30 | 30 × 1), solver (Gauss-Seidel |
+    /// Jacobi), form (compliant | energy) or sor (1 | 1.5).
+    #[arg(long, value_parser = named::<Compare>)]
+    pub compare: Option<Compare>,
 }
 
 /// Runs the command.
@@ -45,14 +51,32 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     let ctx = GpuContext::new()?;
     let kernels = Arc::new(Kernels::new(&ctx.device));
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create {}", a.out.display()))?;
-    let mut sim = Simulation::new(a.backend, scene, Some((&ctx, &kernels)))?;
-    let snap = Snapshotter::new(&ctx, &sim, a.width, a.height)?;
-    eprintln!("rendering {} on {} with the {} solver", sim.scene().name, ctx.describe(), a.backend.name());
+    let sides = match a.compare {
+        Some(c) => c.sides(&settings).to_vec(),
+        None => vec![(String::new(), settings)],
+    };
+    let mut runs = Vec::with_capacity(sides.len());
+    for (label, s) in sides {
+        let sim = Simulation::new(a.backend, scene.clone(), Some((&ctx, &kernels)))?;
+        let snap = Snapshotter::new(&ctx, &sim, a.width, a.height)?;
+        runs.push((label, s, sim, snap));
+    }
+    let what = a.compare.map_or(String::new(), |c| format!(", comparing {}", c.name()));
+    eprintln!("rendering {} on {} with the {} solver{what}", scene.name, ctx.describe(), a.backend.name());
     let bar = indicatif::ProgressBar::new(a.frames as u64);
     for frame in 1..=a.frames {
-        sim.step_frame(&settings);
+        for (_, s, sim, _) in &mut runs {
+            sim.step_frame(s);
+        }
         if frame % a.every == 0 {
-            let img = snap.capture(&ctx, &sim)?;
+            let mut img = image::RgbaImage::new(a.width * runs.len() as u32, a.height);
+            for (i, (label, _, sim, snap)) in runs.iter().enumerate() {
+                let x = a.width * i as u32;
+                image::imageops::replace(&mut img, &snap.capture(&ctx, sim)?, x as i64, 0);
+                if !label.is_empty() {
+                    eapbd::report::plot::label(&mut img, (x as i32 + 8, 8), label, 18.0)?;
+                }
+            }
             let path = a.out.join(format!("frame_{frame:05}.png"));
             save_png(&img, &path)?;
             bar.suspend(|| say!("wrote {}", path.display()));

@@ -79,6 +79,28 @@ fn plot_error(e: impl std::fmt::Display) -> Error {
     Error::Report(format!("plotting: {e}"))
 }
 
+/// Writes `text` onto `img` with its top left corner at `(x, y)` (px), `size` px tall, in dark
+/// grey on a light box: the labels of side-by-side images.
+pub fn label(img: &mut image::RgbaImage, (x, y): (i32, i32), text: &str, size: f64) -> Result<()> {
+    register_font();
+    let (w, h) = img.dimensions();
+    let mut rgb: Vec<u8> = img.pixels().flat_map(|p| [p[0], p[1], p[2]]).collect();
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (w, h)).into_drawing_area();
+        let font = ("sans-serif", size).into_font().color(&RGBColor(25, 25, 30));
+        let (tw, th) = root.estimate_text_size(text, &font).map_err(plot_error)?;
+        let pad = (size / 4.0).ceil() as i32;
+        let corner = (x + tw as i32 + 2 * pad, y + th as i32 + 2 * pad);
+        root.draw(&Rectangle::new([(x, y), corner], RGBColor(245, 245, 245).mix(0.85).filled())).map_err(plot_error)?;
+        root.draw_text(text, &font, (x + pad, y + pad)).map_err(plot_error)?;
+        root.present().map_err(plot_error)?;
+    }
+    for (p, c) in img.pixels_mut().zip(rgb.chunks_exact(3)) {
+        p.0[..3].copy_from_slice(c);
+    }
+    Ok(())
+}
+
 /// Writes `panels` as a grid of `cols` columns, each chart `panel_size` pixels, to `path`.
 pub fn save_panels(path: &Path, title: &str, panels: &[Panel], cols: usize, panel_size: (u32, u32)) -> Result<()> {
     register_font();

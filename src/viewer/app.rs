@@ -35,7 +35,8 @@ pub struct ViewerOptions {
     pub exit_after_frames: Option<u32>,
     /// Write the last frame (UI included) to this PNG file.
     pub screenshot: Option<PathBuf>,
-    /// Samples per pixel of the scene (1, 2 or 4); `None`: [`default_msaa`] for the adapter.
+    /// Samples per pixel of the scene (1, 2 or 4); `None`: 4 on a GPU, 1 on a software adapter
+    /// (`default_msaa`).
     pub msaa: Option<u32>,
     /// Whether `state.backend` was asked for; if not, a software adapter runs the CPU solver.
     pub backend_given: bool,
