@@ -4,6 +4,7 @@
 
 use std::sync::Arc;
 
+use eapbd::compare::Compare;
 use eapbd::constraints::Form;
 use eapbd::gpu::{GpuContext, Kernels, read_buffer};
 use eapbd::render::{OFFSCREEN_FORMAT, OffscreenTarget};
@@ -13,7 +14,7 @@ use eapbd::solver::{EnergyAware, Settings};
 use eapbd::viewer::grab::Grab;
 use eapbd::viewer::session::SceneInfo;
 use eapbd::viewer::strain::{StrainPass, ramp, vertex_strain};
-use eapbd::viewer::{ColorMode, SceneChoice, Session, ViewerState, ui};
+use eapbd::viewer::{ColorMode, SceneChoice, Session, ViewerState, twin, ui};
 use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{By, Queryable};
@@ -56,9 +57,56 @@ fn keyboard_shortcuts_pause_step_and_reset() {
     assert!(s.paused && s.requests.step);
     assert!(s.shortcut('r'));
     assert!(s.requests.reset);
+    assert!(s.shortcut('c'));
+    assert_eq!(s.compare, Some(Compare::EnergyAware));
+    assert!(s.shortcut('C'));
+    assert_eq!(s.compare, None);
     let before = s.clone();
     assert!(!s.shortcut('x'), "x is no shortcut");
     assert_eq!(s, before);
+}
+
+#[test]
+fn the_compare_control_runs_both_sides_with_their_settings() {
+    // Choose "energy-aware" in the Compare box as a user would; then both sessions run a frame:
+    // the left with energy-aware off, the right with project, the rest as the panels say.
+    let info = SceneInfo::default();
+    let mut harness = Harness::builder()
+        .with_size([330.0, 1500.0])
+        .build_ui_state(|ui, s: &mut ViewerState| ui::controls(ui, s, &info), start_state(Backend::Cpu));
+    harness.get_by_label("Compare").click();
+    harness.run();
+    harness.get_by_label("energy-aware").click();
+    harness.run();
+    let mut edited = harness.state().clone();
+    assert_eq!(edited.compare, Some(Compare::EnergyAware));
+    edited.settings.iterations = 12;
+
+    let ctx = gpu();
+    let target = OffscreenTarget::new(&ctx.device, 2 * W, H, 4).unwrap();
+    let mut main = Session::new(&ctx, OFFSCREEN_FORMAT, 4, edited).unwrap();
+    let mut twin_session = None;
+    for _ in 0..2 {
+        twin::sync(&mut twin_session, &mut main, &ctx, OFFSCREEN_FORMAT, 4).unwrap();
+        let t = twin_session.as_mut().expect("compare mode makes the twin");
+        main.apply_changes(&ctx);
+        t.apply_changes(&ctx);
+        let [left, right] = twin::halves([0.0, 0.0, 2.0 * W as f32, H as f32]);
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        main.encode_frame(&mut enc, target.views(), left).unwrap();
+        t.encode_frame(&mut enc, target.views(), right).unwrap();
+        ctx.queue.submit([enc.finish()]);
+    }
+    let t = twin_session.as_ref().unwrap();
+    let (l, r) = (main.last_settings.unwrap(), t.last_settings.unwrap());
+    assert_eq!((l.energy_aware, r.energy_aware), (EnergyAware::Off, EnergyAware::Project));
+    assert_eq!((l.iterations, r.iterations), (12, 12), "the rest is the panels' on both sides");
+    assert_eq!((main.frame, t.frame), (2, 2), "both started together");
+
+    // Turning compare mode off drops the twin.
+    main.state.compare = None;
+    twin::sync(&mut twin_session, &mut main, &ctx, OFFSCREEN_FORMAT, 4).unwrap();
+    assert!(twin_session.is_none() && main.side.is_none());
 }
 
 #[test]

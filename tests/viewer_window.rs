@@ -74,16 +74,18 @@ fn fraction(img: &image::RgbaImage, (x0, x1): (u32, u32), (y0, y1): (u32, u32), 
     n as f64 / ((x1 - x0) * (y1 - y0)) as f64
 }
 
-#[test]
-fn viewer_window_draws_panels_and_scene() {
-    let (_xvfb, display) = display();
-    let out = std::env::temp_dir().join(format!("eapbd-viewer-{}.png", std::process::id()));
+/// Runs the viewer with `args` for 120 frames on `display`; returns its screenshot and where it
+/// lies.
+fn screenshot(display: &str, args: &[&str], name: &str) -> (image::RgbaImage, PathBuf) {
+    let out = std::env::temp_dir().join(format!("eapbd-{name}-{}.png", std::process::id()));
     let _ = std::fs::remove_file(&out);
     let mut child = Command::new(env!("CARGO_BIN_EXE_eapbd"))
-        .args(["view", "--scene", "cloth-paper", "--backend", "gpu", "--exit-after-frames", "120", "--screenshot"])
+        .arg("view")
+        .args(args)
+        .args(["--exit-after-frames", "120", "--screenshot"])
         .arg(&out)
         .args(["--width", &WIDTH.to_string(), "--height", &HEIGHT.to_string()])
-        .env("DISPLAY", &display)
+        .env("DISPLAY", display)
         .env_remove("WAYLAND_DISPLAY")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -105,9 +107,44 @@ fn viewer_window_draws_panels_and_scene() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(status.success(), "the viewer failed: {stderr}");
     eprintln!("{stderr}");
-
     let img = image::open(&out).unwrap_or_else(|e| panic!("{}: {e}", out.display())).to_rgba8();
     assert_eq!(img.dimensions(), (WIDTH, HEIGHT));
+    (img, out)
+}
+
+/// Compares `img` (written at `out`) with the stored `file`, or stores it when
+/// `EAPBD_UPDATE_SNAPSHOTS` is set.
+fn check_golden(img: &image::RgbaImage, out: &std::path::Path, file: &str) {
+    let golden = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(file);
+    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
+        std::fs::copy(out, &golden).expect("writing the reference");
+        eprintln!("updated {}", golden.display());
+    }
+    let reference = image::open(&golden)
+        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", golden.display()))
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), img.dimensions());
+    let diff = mean_abs_diff(img, &reference);
+    eprintln!("{file}: mean difference from the reference: {diff:.3} of 255");
+    assert!(
+        diff < MEAN_TOLERANCE,
+        "{file}: mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}",
+        out.display()
+    );
+    let _ = std::fs::remove_file(out);
+}
+
+/// The cloth's share of the pixels in `[x0, x1)` (red front or blue back, lit).
+fn cloth(img: &image::RgbaImage, x: (u32, u32)) -> f64 {
+    fraction(img, x, (0, HEIGHT), |[r, g, b]| {
+        (r > 90 && r as u32 > g as u32 + 40 && r > b) || (b > 90 && b as u32 > r as u32 + 40)
+    })
+}
+
+#[test]
+fn viewer_window_draws_panels_and_scene() {
+    let (_xvfb, display) = display();
+    let (img, out) = screenshot(&display, &["--scene", "cloth-paper", "--backend", "gpu"], "viewer");
     // Not blank: many distinct colours.
     let distinct: std::collections::HashSet<[u8; 4]> = img.pixels().map(|p| p.0).collect();
     assert!(distinct.len() > 200, "only {} distinct colours", distinct.len());
@@ -116,29 +153,27 @@ fn viewer_window_draws_panels_and_scene() {
     let dark = fraction(&img, panel, (0, HEIGHT), |p| p.iter().all(|&c| c < 70));
     let text = fraction(&img, panel, (0, HEIGHT), |p| p.iter().all(|&c| c > 140));
     assert!(dark > 0.5 && text > 0.01, "no control panel: {dark:.2} dark, {text:.3} light");
-    // The scene in the middle: sky and the cloth (red front or blue back, lit).
+    // The scene in the middle: sky and the cloth.
     let middle = (320, WIDTH - 320);
     let sky = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| r > 180 && g > 180 && b > 190);
-    let cloth = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| {
-        (r > 90 && r as u32 > g as u32 + 40 && r > b) || (b > 90 && b as u32 > r as u32 + 40)
-    });
+    let cloth = cloth(&img, middle);
     assert!(sky > 0.1 && cloth > 0.03, "no scene: {sky:.2} sky, {cloth:.3} cloth");
+    check_golden(&img, &out, "viewer_cloth_paper.png");
+}
 
-    let golden = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden/viewer_cloth_paper.png");
-    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
-        std::fs::copy(&out, &golden).expect("writing the reference");
-        eprintln!("updated {}", golden.display());
-    }
-    let reference = image::open(&golden)
-        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", golden.display()))
-        .to_rgba8();
-    assert_eq!(reference.dimensions(), img.dimensions());
-    let diff = mean_abs_diff(&img, &reference);
-    eprintln!("mean difference from the reference: {diff:.3} of 255");
-    assert!(
-        diff < MEAN_TOLERANCE,
-        "mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}",
-        out.display()
-    );
-    let _ = std::fs::remove_file(&out);
+#[test]
+fn compare_mode_draws_both_runs_labelled() {
+    // `view --compare energy-aware`: off on the left half of the scene, on on the right, each
+    // with its cloth and its label.
+    let (_xvfb, display) = display();
+    let args =
+        ["--scene", "cloth", "--substeps", "10", "--iterations", "3", "--backend", "cpu", "--compare", "energy-aware"];
+    let (img, out) = screenshot(&display, &args, "compare");
+    let mid = WIDTH / 2;
+    let (left, right) = (cloth(&img, (300, mid - 10)), cloth(&img, (mid + 10, WIDTH - 300)));
+    assert!(left > 0.03 && right > 0.03, "a half without its cloth: {left:.3}, {right:.3}");
+    // The labels: light boxes at the top left of each half.
+    let label = |x0: u32| fraction(&img, (x0, x0 + 80), (10, 24), |p| p.iter().all(|&c| c > 200));
+    assert!(label(300) > 0.3 && label(mid + 8) > 0.3, "labels missing: {:.2}, {:.2}", label(300), label(mid + 8));
+    check_golden(&img, &out, "viewer_compare_energy_aware.png");
 }

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use eapbd::compare::Compare;
 use eapbd::simulation::Backend;
 use eapbd::viewer::{ColorMode, SceneChoice, ViewerOptions, ViewerState};
 
@@ -36,6 +37,10 @@ pub struct ViewArgs {
     /// Write the last frame (panels included) to this PNG file; with --exit-after-frames.
     #[arg(long, requires = "exit_after_frames")]
     pub screenshot: Option<PathBuf>,
+    /// Compare mode at the start: a second run beside the first, differing in energy-aware (off
+    /// | on), split (1 × 30 | 30 × 1), solver, form or sor.
+    #[arg(long, value_parser = named::<Compare>)]
+    pub compare: Option<Compare>,
     /// Multisampling of the scene: 1 (off), 2 or 4 samples per pixel. Default: 4 on a GPU, 1 on
     /// a software adapter (such as lavapipe), where each sample costs CPU time.
     #[arg(long)]
@@ -52,6 +57,7 @@ pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
     let mut state = ViewerState::new(choice, settings, a.backend.unwrap_or(Backend::Gpu));
     state.color_mode = a.color;
     state.wireframe = a.wireframe;
+    state.compare = a.compare;
     eapbd::viewer::run(ViewerOptions {
         state,
         width: a.width,

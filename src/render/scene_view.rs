@@ -73,6 +73,8 @@ pub struct SceneView {
     /// Where in the target the scene is drawn: `[x, y, width, height]` in pixels (the whole
     /// target when `None`; the background is cleared everywhere).
     pub viewport: Option<[f32; 4]>,
+    /// Clear the target to the sky first (`false`: draw over what another view drew beside it).
+    pub clear: bool,
 }
 
 impl SceneView {
@@ -144,6 +146,7 @@ impl SceneView {
             vertex_colors: None,
             lines: Vec::new(),
             viewport: None,
+            clear: true,
         }
     }
 
@@ -176,7 +179,10 @@ impl SceneView {
                 view: views.color,
                 depth_slice: None,
                 resolve_target: views.resolve,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(super::SKY), store: wgpu::StoreOp::Store },
+                ops: wgpu::Operations {
+                    load: if self.clear { wgpu::LoadOp::Clear(super::SKY) } else { wgpu::LoadOp::Load },
+                    store: wgpu::StoreOp::Store,
+                },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: views.depth,

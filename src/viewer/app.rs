@@ -16,6 +16,7 @@ use winit::window::{Window, WindowId};
 use super::capture::{FrameTargets, read_texture};
 use super::session::{Session, smooth};
 use super::state::ViewerState;
+use super::twin;
 use super::ui;
 use super::ui_cache::{UiCache, panel_rects};
 use crate::error::{Error, Result};
@@ -119,6 +120,10 @@ struct Running {
     ui_cache: Option<UiCache>,
     /// Input egui took, a resize or a repaint egui asked for since the panels were last drawn.
     ui_changed: bool,
+    /// Compare mode's second run, drawn in the right half of the scene.
+    twin: Option<Session>,
+    /// Compare mode's labels over the scene (physical pixels `[x0, y0, x1, y1]`).
+    labels: Vec<[f32; 4]>,
 }
 
 struct App {
@@ -309,6 +314,8 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         reconfigure: false,
         ui_cache,
         ui_changed: true,
+        twin: None,
+        labels: Vec::new(),
     })
 }
 
@@ -335,9 +342,15 @@ impl Running {
     }
 
     /// Cursor position and size of the scene's viewport (px).
+    /// Relative to the main session's part of the scene (its left half in compare mode).
     fn scene_pixel(&self, p: Vec2) -> (Vec2, Vec2) {
-        let [x, y, w, h] = self.viewport;
+        let [x, y, w, h] = self.main_viewport();
         (p - Vec2::new(x, y), Vec2::new(w, h))
+    }
+
+    /// Where the main session draws, and where the twin does in compare mode.
+    fn main_viewport(&self) -> [f32; 4] {
+        if self.twin.is_some() { twin::halves(self.viewport)[0] } else { self.viewport }
     }
 
     fn mouse_moved(&mut self, p: Vec2) {
@@ -435,9 +448,17 @@ impl Running {
         };
         let draw_start = Instant::now();
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
+        twin::sync(&mut self.twin, &mut self.session, &self.ctx, self.config.format, self.targets.samples)?;
         self.session.apply_changes(&self.ctx);
-        self.session.encode_frame(&mut encoder, self.targets.views(&view), self.viewport)?;
-        let solver_wall = self.session.timings.cpu_solve_ms;
+        let [left, right] = twin::halves(self.viewport);
+        let mine = if self.twin.is_some() { left } else { self.viewport };
+        self.session.encode_frame(&mut encoder, self.targets.views(&view), mine)?;
+        let mut solver_wall = self.session.timings.cpu_solve_ms;
+        if let Some(t) = &mut self.twin {
+            t.apply_changes(&self.ctx);
+            t.encode_frame(&mut encoder, self.targets.views(&view), right)?;
+            solver_wall += t.timings.cpu_solve_ms;
+        }
         let mut user_buffers = Vec::new();
         if let Some((paint, screen)) = &ui {
             user_buffers =
@@ -447,7 +468,7 @@ impl Running {
             (Some((paint, screen)), Some(cache)) => {
                 let ppp = screen.pixels_per_point;
                 let clips: Vec<[f32; 4]> = paint.iter().map(|p| painted_rect(p).map(|v| v * ppp)).collect();
-                match panel_rects(self.viewport, self.config.width, self.config.height, &clips) {
+                match panel_rects(self.viewport, self.config.width, self.config.height, &clips, &self.labels) {
                     Some(rects) => {
                         let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
                         encode_ui(&self.egui_renderer, &mut encoder, cache.view(), paint, screen, clear);
@@ -468,12 +489,18 @@ impl Running {
         }
         self.ctx.queue.submit(user_buffers.into_iter().chain([encoder.finish()]));
         self.session.after_submit();
+        if let Some(t) = &mut self.twin {
+            t.after_submit();
+        }
         self.window.pre_present_notify();
         self.ctx.queue.present(frame);
         if std::mem::take(&mut self.reconfigure) {
             self.resize(self.window.inner_size());
         }
         self.session.poll();
+        if let Some(t) = &mut self.twin {
+            t.poll();
+        }
         let draw_ms = draw_start.elapsed().as_secs_f64() * 1e3 - solver_wall;
         let t = &mut self.session.timings;
         t.draw_ms = Some(smooth(t.draw_ms, draw_ms));
@@ -488,7 +515,15 @@ impl Running {
         let input = self.egui_state.take_egui_input(&self.window);
         let mut rect = egui::Rect::NOTHING;
         let (state, stats) = self.session.ui_parts();
-        let mut output = self.egui_ctx.run_ui(input, |ui| rect = ui::panels(ui, state, &stats));
+        let mut labels = Vec::new();
+        let mut output = self.egui_ctx.run_ui(input, |ui| {
+            rect = ui::panels(ui, state, &stats);
+            let halves = twin::halves([rect.min.x, rect.min.y, rect.width(), rect.height()])
+                .map(|[x, y, w, h]| egui::Rect::from_min_size(egui::pos2(x, y), egui::vec2(w, h)));
+            labels = ui::compare_labels(ui, state, halves);
+        });
+        let ppp_labels = output.pixels_per_point;
+        self.labels = labels.iter().map(|r| [r.min.x, r.min.y, r.max.x, r.max.y].map(|v| v * ppp_labels)).collect();
         self.egui_state.handle_platform_output(&self.window, std::mem::take(&mut output.platform_output));
         // An animation (a panel opening, a widget fading) wants the next frame drawn too.
         if output.viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.repaint_delay.is_zero()) {
@@ -532,6 +567,9 @@ impl Running {
         let view = texture.create_view(&Default::default());
         let mut encoder = self.ctx.device.create_command_encoder(&Default::default());
         self.session.encode_scene_only(&mut encoder, self.targets.views(&view));
+        if let Some(t) = &self.twin {
+            t.encode_scene_only(&mut encoder, self.targets.views(&view));
+        }
         let user_buffers =
             self.egui_renderer.update_buffers(&self.ctx.device, &self.ctx.queue, &mut encoder, &paint, &screen);
         encode_ui(&self.egui_renderer, &mut encoder, &view, &paint, &screen, wgpu::LoadOp::Load);

@@ -17,6 +17,7 @@ mod readback;
 pub mod session;
 pub mod state;
 pub mod strain;
+pub mod twin;
 pub mod ui;
 pub mod ui_cache;
 

@@ -16,6 +16,7 @@ use super::plots::{History, Sample};
 use super::readback::StatsReadback;
 use super::state::{ColorMode, SceneChoice, ViewerState};
 use super::strain::{StrainPass, ramp_colors, vertex_energy};
+use crate::compare::Compare;
 use crate::error::{Error, Result};
 use crate::gpu::{GpuContext, Kernels};
 use crate::metrics::FrameStats;
@@ -101,6 +102,11 @@ pub struct Session {
     timestamps: Option<Timestamps>,
     /// The camera.
     pub orbit: Orbit,
+    /// In compare mode, the comparison and which of its sides this session runs (0 left, 1
+    /// right): its settings are the panels' with that side's setting.
+    pub side: Option<(Compare, usize)>,
+    /// Draw over the target rather than clearing it (the right half in compare mode).
+    pub draw_over: bool,
     grab: Option<Grab>,
     /// Frames simulated since the last reset.
     pub frame: u32,
@@ -163,6 +169,8 @@ impl Session {
             timestamps,
             sim,
             orbit,
+            side: None,
+            draw_over: false,
             grab: None,
             frame: 0,
             last_settings: None,
@@ -310,13 +318,16 @@ impl Session {
         viewport: [f32; 4],
     ) -> Result<()> {
         let step = !self.state.paused || std::mem::take(&mut self.state.requests.step);
-        let settings = match self.state.frame_settings() {
+        let mut settings = match self.state.frame_settings() {
             Ok(s) => s,
             Err(e) => {
                 self.state.error = Some(e.to_string());
                 self.last_settings.unwrap_or_default()
             }
         };
+        if let Some((c, i)) = self.side {
+            settings = c.sides(&settings)[i].1;
+        }
         if let Some(g) = &self.grab {
             g.hold(&mut self.sim, &self.queue);
         }
@@ -362,6 +373,7 @@ impl Session {
         self.prepare_draw(encoder);
         self.view.camera = self.orbit.camera();
         self.view.viewport = Some(viewport);
+        self.view.clear = !self.draw_over;
         self.view.update_camera(&self.queue, viewport[2].max(1.0) as u32, viewport[3].max(1.0) as u32);
         self.view.encode(&self.renderer, encoder, views);
         Ok(())

@@ -2,6 +2,7 @@
 //! or its material rebuilds the simulation (keeping the motion where the mesh is the same); a
 //! change of [`Settings`] applies to the next frame.
 
+use crate::compare::Compare;
 use crate::constraints::{Orthotropic, SpringMaterial};
 use crate::error::Result;
 use crate::material::Model;
@@ -246,6 +247,8 @@ pub struct Requests {
 /// Everything the panels edit. The session reads it once per frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewerState {
+    /// Compare mode: a second run beside the first differing in this setting (`None`: one run).
+    pub compare: Option<Compare>,
     /// Scene and material (changes rebuild the simulation).
     pub choice: SceneChoice,
     /// Solver settings for the next frame.
@@ -270,7 +273,8 @@ pub struct ViewerState {
 
 impl ViewerState {
     /// A keyboard shortcut: space pauses or runs, `s` steps one frame (pausing first), `r`
-    /// resets the scene. Returns whether `key` is one.
+    /// resets the scene, `c` turns compare mode (energy-aware off | on) on or off. Returns
+    /// whether `key` is one.
     pub fn shortcut(&mut self, key: char) -> bool {
         match key.to_ascii_lowercase() {
             ' ' => self.paused = !self.paused,
@@ -279,6 +283,7 @@ impl ViewerState {
                 self.requests.step = true;
             }
             'r' => self.requests.reset = true,
+            'c' => self.compare = if self.compare.is_some() { None } else { Some(Compare::EnergyAware) },
             _ => return false,
         }
         true
@@ -287,6 +292,7 @@ impl ViewerState {
     /// The state for a scene choice, settings and backend.
     pub fn new(choice: SceneChoice, settings: Settings, backend: Backend) -> Self {
         ViewerState {
+            compare: None,
             choice,
             settings,
             backend,

@@ -7,6 +7,7 @@ use egui_plot::{Legend, Line, LineStyle, Plot};
 use super::plots::History;
 use super::session::{SceneInfo, Timings};
 use super::state::{ColorMode, MaterialChoice, ViewerState};
+use crate::compare::Compare;
 use crate::constraints::Form;
 use crate::mesh::Diagonals;
 use crate::metrics::FrameStats;
@@ -241,6 +242,17 @@ fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
             state.requests.reset_camera = true;
         }
     });
+    let name = state.compare.map_or("none", Compare::name);
+    egui::ComboBox::from_label("Compare")
+        .selected_text(name)
+        .show_ui(ui, |ui| {
+            ui.selectable_value(&mut state.compare, None, "none");
+            for (name, c) in Compare::ALL {
+                ui.selectable_value(&mut state.compare, Some(c), name);
+            }
+        })
+        .response
+        .on_hover_text("A second run beside this one, differing in one setting, from the same start (C: energy-aware)");
     ui.label(
         RichText::new("Drag the body to pull it; drag elsewhere to orbit, right-drag to pan, wheel to zoom.").small(),
     );
@@ -346,4 +358,27 @@ fn explanation(ui: &mut Ui) {
          by an energy-momentum projection after each frame.",
     );
     ui.label("More: docs/energy-aware.md in the repository.");
+}
+
+/// Labels each half of the scene with its side's setting in compare mode, at the top left of
+/// `halves` (points); returns the labels' rectangles (opaque, so that a cached copy of them
+/// stands for them).
+pub fn compare_labels(ui: &mut Ui, state: &ViewerState, halves: [egui::Rect; 2]) -> Vec<egui::Rect> {
+    let Some(c) = state.compare else { return Vec::new() };
+    let sides = c.sides(&state.settings);
+    let pad = egui::vec2(6.0, 3.0);
+    halves
+        .iter()
+        .zip(sides)
+        .map(|(half, (text, _))| {
+            let galley =
+                ui.painter().layout_no_wrap(text, egui::FontId::proportional(14.0), egui::Color32::from_gray(20));
+            let rect = egui::Rect::from_min_size(half.min + egui::vec2(8.0, 8.0), galley.size() + 2.0 * pad);
+            // A clip rectangle of its own: a paint job apart from the rest, bounded by the label.
+            let painter = ui.painter().with_clip_rect(rect.expand(1.0));
+            painter.rect_filled(rect, 0.0, egui::Color32::from_gray(235));
+            painter.galley(rect.min + pad, galley, egui::Color32::from_gray(20));
+            rect
+        })
+        .collect()
 }

@@ -87,18 +87,37 @@ fn stale(drawn: Option<Instant>, changed: bool, now: Instant) -> bool {
     changed || drawn.is_none_or(|t| now.duration_since(t) >= REFRESH)
 }
 
-/// The side panels' rectangles (physical pixels `[x, y, w, h]`) around the scene's `viewport`
-/// in a `width × height` window, or `None` where one of egui's clip rectangles `clips` (in
-/// physical pixels `[x0, y0, x1, y1]`) reaches into the scene: something drawn over it.
-pub fn panel_rects(viewport: [f32; 4], width: u32, height: u32, clips: &[[f32; 4]]) -> Option<Vec<[u32; 4]>> {
+/// The rectangles to copy from the cache (physical pixels `[x, y, w, h]`): the side panels
+/// around the scene's `viewport` in a `width × height` window, and the opaque `labels` drawn
+/// over the scene (`[x0, y0, x1, y1]`, each copied less its anti-aliased rim); `None` where one
+/// of the places egui drew, `painted` (`[x0, y0, x1, y1]`), reaches into the scene elsewhere: a
+/// pop-up or a tooltip, which the cache does not hold.
+pub fn panel_rects(
+    viewport: [f32; 4],
+    width: u32,
+    height: u32,
+    painted: &[[f32; 4]],
+    labels: &[[f32; 4]],
+) -> Option<Vec<[u32; 4]>> {
     let [vx, vy, vw, vh] = viewport;
-    let inside = |c: &[f32; 4]| c[2] <= vx + 0.5 || c[0] >= vx + vw - 0.5 || c[3] <= vy + 0.5 || c[1] >= vy + vh - 0.5;
-    if !clips.iter().all(inside) {
+    let outside = |c: &[f32; 4]| c[2] <= vx + 0.5 || c[0] >= vx + vw - 0.5 || c[3] <= vy + 0.5 || c[1] >= vy + vh - 0.5;
+    let in_label = |c: &[f32; 4]| {
+        labels.iter().any(|l| c[0] >= l[0] - 2.0 && c[1] >= l[1] - 2.0 && c[2] <= l[2] + 2.0 && c[3] <= l[3] + 2.0)
+    };
+    if !painted.iter().all(|c| outside(c) || in_label(c)) {
         return None;
     }
     let left = vx.round().clamp(0.0, width as f32) as u32;
     let right = ((vx + vw).round().clamp(left as f32, width as f32)) as u32;
-    Some(vec![[0, 0, left, height], [right, 0, width - right, height]])
+    let mut rects = vec![[0, 0, left, height], [right, 0, width - right, height]];
+    for l in labels {
+        let x0 = (l[0] + 1.0).ceil().clamp(0.0, width as f32) as u32;
+        let y0 = (l[1] + 1.0).ceil().clamp(0.0, height as f32) as u32;
+        let x1 = (l[2] - 1.0).floor().clamp(x0 as f32, width as f32) as u32;
+        let y1 = (l[3] - 1.0).floor().clamp(y0 as f32, height as f32) as u32;
+        rects.push([x0, y0, x1 - x0, y1 - y0]);
+    }
+    Some(rects)
 }
 
 #[cfg(test)]
@@ -109,10 +128,15 @@ mod tests {
     fn panels_around_the_scene_are_cached_and_a_pop_up_over_it_is_not() {
         let viewport = [300.0, 0.0, 680.0, 800.0];
         let panels = [[0.0, 0.0, 300.0, 800.0], [980.0, 0.0, 1280.0, 800.0]];
-        let rects = panel_rects(viewport, 1280, 800, &panels).unwrap();
+        let rects = panel_rects(viewport, 1280, 800, &panels, &[]).unwrap();
         assert_eq!(rects, vec![[0, 0, 300, 800], [980, 0, 300, 800]]);
         let popup = [250.0, 100.0, 420.0, 200.0];
-        assert_eq!(panel_rects(viewport, 1280, 800, &[panels[0], popup]), None);
+        assert_eq!(panel_rects(viewport, 1280, 800, &[panels[0], popup], &[]), None);
+        // A label over the scene is copied too, less its rim.
+        let label = [308.0, 8.0, 420.0, 30.0];
+        let painted = [panels[0], panels[1], [307.5, 7.5, 420.5, 30.5]];
+        let rects = panel_rects(viewport, 1280, 800, &painted, &[label]).unwrap();
+        assert_eq!(rects[2], [309, 9, 110, 20]);
     }
 
     #[test]
