@@ -60,11 +60,15 @@ impl Camera {
         Camera { eye: center + dir * distance, target: center, fov_y, near: distance * 0.02, far: distance * 20.0 }
     }
 
-    /// Projection × view for an aspect ratio (width / height).
+    /// Projection × view for an aspect ratio (width / height). In a viewport taller than wide
+    /// (a half of the scene in compare mode) the vertical field of view widens to
+    /// `2 atan(tan(fov_y / 2) / aspect)`, so that the horizontal one is `fov_y` and what
+    /// [`Camera::framing`] fits stays in view.
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         // wgpu's clip space has y up and depth in [0, 1], as Direct3D's.
         let view = glam::camera::rh::view::look_at_mat4(self.eye, self.target, Vec3::Y);
-        glam::camera::rh::proj::directx::perspective(self.fov_y, aspect, self.near, self.far) * view
+        let fov = if aspect < 1.0 { 2.0 * ((self.fov_y * 0.5).tan() / aspect).atan() } else { self.fov_y };
+        glam::camera::rh::proj::directx::perspective(fov, aspect, self.near, self.far) * view
     }
 
     /// The uniform for an aspect ratio.
