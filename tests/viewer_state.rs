@@ -44,6 +44,14 @@ fn frame(ctx: &GpuContext, s: &mut Session, target: &OffscreenTarget) -> image::
     img
 }
 
+/// The control panel under test, editing the start state on `backend`.
+fn controls(backend: Backend) -> Harness<'static, ViewerState> {
+    let info = SceneInfo::default();
+    Harness::builder()
+        .with_size([330.0, 1500.0])
+        .build_ui_state(move |ui, s: &mut ViewerState| ui::controls(ui, s, &info), start_state(backend))
+}
+
 #[test]
 fn keyboard_shortcuts_pause_step_and_reset() {
     let mut s = start_state(Backend::Cpu);
@@ -70,10 +78,7 @@ fn keyboard_shortcuts_pause_step_and_reset() {
 fn the_compare_control_runs_both_sides_with_their_settings() {
     // Choose "energy-aware" in the Compare box as a user would; then both sessions run a frame:
     // the left with energy-aware off, the right with project, the rest as the panels say.
-    let info = SceneInfo::default();
-    let mut harness = Harness::builder()
-        .with_size([330.0, 1500.0])
-        .build_ui_state(|ui, s: &mut ViewerState| ui::controls(ui, s, &info), start_state(Backend::Cpu));
+    let mut harness = controls(Backend::Cpu);
     harness.get_by_label("Compare").click();
     harness.run();
     harness.get_by_label("energy-aware").click();
@@ -113,10 +118,7 @@ fn the_compare_control_runs_both_sides_with_their_settings() {
 fn widgets_change_the_solver_settings_on_the_next_frame() {
     // Drive the control panel as a user would: the iterations and stiffness sliders, the
     // energy-aware radio button.
-    let info = SceneInfo::default();
-    let mut harness = Harness::builder()
-        .with_size([330.0, 1500.0])
-        .build_ui_state(|ui, s: &mut ViewerState| ui::controls(ui, s, &info), start_state(Backend::Gpu));
+    let mut harness = controls(Backend::Gpu);
     // A slider and its number field share the label: set the slider.
     harness.get(By::new().role(Role::Slider).label("Iterations")).set_value_accesskit(55.0);
     harness.run();

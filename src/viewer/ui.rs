@@ -95,7 +95,8 @@ fn scene_controls(ui: &mut Ui, state: &mut ViewerState) {
     c.set_scene(index);
     let mut own = c.resolution.is_none();
     ui.horizontal(|ui| {
-        ui.checkbox(&mut own, "scene's resolution");
+        ui.checkbox(&mut own, "scene's resolution")
+            .on_hover_text("Particles per side of a cloth, cells along a beam or cube side; unticked: your own.");
         if !own {
             let mut n = c.resolution.unwrap_or(if c.solid { 10 } else { 41 });
             let range = if c.solid { 2..=40 } else { 3..=128 };
@@ -106,17 +107,20 @@ fn scene_controls(ui: &mut Ui, state: &mut ViewerState) {
     if own {
         c.resolution = None;
     }
-    ui.checkbox(&mut c.gravity, "Gravity");
+    ui.checkbox(&mut c.gravity, "Gravity").on_hover_text("g = 9.81 m/s² downwards.");
     if c.solid {
         ui.horizontal(|ui| {
-            ui.label("Tetrahedra");
+            ui.label("Tetrahedra").on_hover_text(
+                "volume: a tetrahedral mesh of the body; centroid: the paper's surface triangles joined to the centre.",
+            );
             ui.radio_value(&mut c.tets, TetMode::Volume, "volume");
             ui.radio_value(&mut c.tets, TetMode::Centroid, "centroid");
         });
     }
     if c.is_cloth() {
         ui.horizontal(|ui| {
-            ui.label("Diagonals");
+            ui.label("Diagonals")
+                .on_hover_text("How each grid quad is split into triangles: all alike, or in a checkerboard.");
             ui.radio_value(&mut c.diagonals, Diagonals::Uniform, "uniform");
             ui.radio_value(&mut c.diagonals, Diagonals::Alternating, "alternating");
         });
@@ -133,11 +137,14 @@ fn material_controls(ui: &mut Ui, state: &mut ViewerState) {
     });
     match c.material {
         MaterialChoice::Spring(_) => {
-            ui.add(log_slider(&mut c.stiffness, 10.0..=1.0e7, "Stiffness", "N/m"));
+            ui.add(log_slider(&mut c.stiffness, 10.0..=1.0e7, "Stiffness", "N/m"))
+                .on_hover_text("Small-strain spring stiffness k_s (N/m); the compliance is 1/k_s.");
         }
         MaterialChoice::AnisoCloth => {
-            ui.add(log_slider(&mut c.warp, 10.0..=1.0e7, "Warp E_u", "N/m"));
-            ui.add(log_slider(&mut c.weft, 10.0..=1.0e7, "Weft E_v", "N/m"));
+            ui.add(log_slider(&mut c.warp, 10.0..=1.0e7, "Warp E_u", "N/m"))
+                .on_hover_text("Membrane modulus along x (N/m: a 2D modulus, Pa × thickness).");
+            ui.add(log_slider(&mut c.weft, 10.0..=1.0e7, "Weft E_v", "N/m"))
+                .on_hover_text("Membrane modulus along z (N/m).");
             let mut auto = c.shear.is_none();
             ui.checkbox(&mut auto, "Shear from Huber's estimate");
             if auto {
@@ -147,11 +154,14 @@ fn material_controls(ui: &mut Ui, state: &mut ViewerState) {
                 ui.add(log_slider(&mut g, 1.0..=1.0e7, "Shear G", "N/m"));
                 c.shear = Some(g);
             }
-            ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ν_uv"));
+            ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ν_uv"))
+                .on_hover_text("Contraction along z under stretch along x (dimensionless).");
         }
         MaterialChoice::Solid(_) => {
-            ui.add(log_slider(&mut c.young, 1.0e4..=1.0e9, "Young E", "Pa"));
-            ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ratio"));
+            ui.add(log_slider(&mut c.young, 1.0e4..=1.0e9, "Young E", "Pa"))
+                .on_hover_text("Young's modulus E (Pa) of the 3D model.");
+            ui.add(Slider::new(&mut c.poisson, 0.0..=0.49).text("Poisson ratio"))
+                .on_hover_text("Poisson's ratio ν (dimensionless; 0.5 would be incompressible).");
         }
     }
     if !c.solid {
@@ -159,7 +169,8 @@ fn material_controls(ui: &mut Ui, state: &mut ViewerState) {
         ui.checkbox(&mut on, "Bending");
         if on {
             let mut kb = c.bending.filter(|k| *k > 0.0).unwrap_or(1.0e-3);
-            ui.add(log_slider(&mut kb, 1.0e-6..=1.0, "Bending k_b", "N·m/rad"));
+            ui.add(log_slider(&mut kb, 1.0e-6..=1.0, "Bending k_b", "N·m/rad"))
+                .on_hover_text("Dihedral bending stiffness k_b (N·m/rad): E = ½ k_b (θ − θ₀)².");
             c.bending = Some(kb);
         } else {
             c.bending = Some(0.0);
@@ -195,7 +206,8 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
         ui.radio_value(&mut s.form, Form::Energy, "energy");
     });
     if s.form == Form::Energy {
-        ui.add(log_slider(&mut s.energy_compliance, 1.0e-9..=1.0e-1, "Energy compliance", ""));
+        ui.add(log_slider(&mut s.energy_compliance, 1.0e-9..=1.0e-1, "Energy compliance", ""))
+            .on_hover_text("Compliance α of the energy form C = E (1/J): 0 would enforce E = 0 exactly.");
     }
     ui.horizontal(|ui| {
         ui.label("Iteration");
@@ -203,7 +215,8 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
         ui.radio_value(&mut s.method, Method::Jacobi, "Jacobi");
     });
     if s.method == Method::Jacobi {
-        ui.add(Slider::new(&mut s.jacobi_omega, 0.1..=1.9).text("Jacobi ω"));
+        ui.add(Slider::new(&mut s.jacobi_omega, 0.1..=1.9).text("Jacobi ω"))
+            .on_hover_text("Relaxation ω of the averaged Jacobi corrections (dimensionless).");
     }
     ui.horizontal_wrapped(|ui| {
         ui.label("Energy-aware");
@@ -260,7 +273,7 @@ fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
 
 fn view_controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
     ui.label(RichText::new("View").strong());
-    ui.checkbox(&mut state.wireframe, "Wireframe");
+    ui.checkbox(&mut state.wireframe, "Wireframe").on_hover_text("The surface's edges over it.");
     ui.horizontal_wrapped(|ui| {
         ui.label("Colour");
         for m in ColorMode::ALL {
@@ -279,8 +292,11 @@ fn view_controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
             ui.label(format!("{n} elements in {colors} color groups: one dispatch per group, no two elements of a group share a particle."));
         }
         ColorMode::Strain => {
-            ui.add(log_slider(&mut state.strain_scale, 1.0e-4..=1.0, "Red at stretch", ""));
+            ui.add(log_slider(&mut state.strain_scale, 1.0e-4..=1.0, "Red at stretch", ""))
+                .on_hover_text("Mean relative stretch (|d| − l₀)/l₀ of a vertex's edges drawn red.");
+            ramp_legend(ui, "unstretched", &format!("{:.1e} stretch", state.strain_scale));
         }
+        ColorMode::Energy => ramp_legend(ui, "0 J", "'Red at' in Statistics"),
         _ => {}
     }
 }
@@ -381,4 +397,23 @@ pub fn compare_labels(ui: &mut Ui, state: &ViewerState, halves: [egui::Rect; 2])
             rect
         })
         .collect()
+}
+
+/// The colour ramp of the strain and energy views as a bar, labelled at both ends.
+fn ramp_legend(ui: &mut Ui, low: &str, high: &str) {
+    ui.horizontal(|ui| {
+        ui.label(RichText::new(low).small());
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(120.0, 12.0), egui::Sense::hover());
+        let steps = 24;
+        for k in 0..steps {
+            // The ramp is in linear RGB; egui's colours are sRGB.
+            let [r, g, b] =
+                super::strain::ramp((k as f32 + 0.5) / steps as f32).map(|c| (c.powf(1.0 / 2.2) * 255.0) as u8);
+            let x0 = rect.min.x + rect.width() * k as f32 / steps as f32;
+            let x1 = rect.min.x + rect.width() * (k + 1) as f32 / steps as f32;
+            let cell = egui::Rect::from_min_max(egui::pos2(x0, rect.min.y), egui::pos2(x1, rect.max.y));
+            ui.painter().rect_filled(cell, 0.0, egui::Color32::from_rgb(r, g, b));
+        }
+        ui.label(RichText::new(high).small());
+    });
 }
