@@ -37,7 +37,7 @@ impl Compare {
 
     /// The two sides, left then right: a label saying what differs, and the settings (`base`
     /// with the one setting changed).
-    pub fn sides(self, base: &Settings) -> [(String, Settings); 2] {
+    pub fn sides(self, base: &Settings) -> [(&'static str, Settings); 2] {
         let with = |f: &dyn Fn(&mut Settings)| {
             let mut s = *base;
             f(&mut s);
@@ -45,22 +45,22 @@ impl Compare {
         };
         match self {
             Compare::EnergyAware => [
-                ("energy-aware off".into(), with(&|s| s.energy_aware = EnergyAware::Off)),
-                ("energy-aware on (project)".into(), with(&|s| s.energy_aware = EnergyAware::Project)),
+                ("energy-aware off", with(&|s| s.energy_aware = EnergyAware::Off)),
+                ("energy-aware on (project)", with(&|s| s.energy_aware = EnergyAware::Project)),
             ],
             Compare::Split => [
-                ("1 substep x 30 iterations".into(), with(&|s| (s.substeps, s.iterations) = (1, 30))),
-                ("30 substeps x 1 iteration".into(), with(&|s| (s.substeps, s.iterations) = (30, 1))),
+                ("1 substep x 30 iterations", with(&|s| (s.substeps, s.iterations) = (1, 30))),
+                ("30 substeps x 1 iteration", with(&|s| (s.substeps, s.iterations) = (30, 1))),
             ],
             Compare::Solver => [
-                ("Gauss-Seidel".into(), with(&|s| s.method = Method::GaussSeidel)),
-                ("Jacobi".into(), with(&|s| s.method = Method::Jacobi)),
+                ("Gauss-Seidel", with(&|s| s.method = Method::GaussSeidel)),
+                ("Jacobi", with(&|s| s.method = Method::Jacobi)),
             ],
             Compare::Form => [
-                ("compliant form".into(), with(&|s| s.form = Form::Compliant)),
-                ("energy form".into(), with(&|s| s.form = Form::Energy)),
+                ("compliant form", with(&|s| s.form = Form::Compliant)),
+                ("energy form", with(&|s| s.form = Form::Energy)),
             ],
-            Compare::Sor => [("SOR 1".into(), with(&|s| s.sor = 1.0)), ("SOR 1.5".into(), with(&|s| s.sor = 1.5))],
+            Compare::Sor => [("SOR 1", with(&|s| s.sor = 1.0)), ("SOR 1.5", with(&|s| s.sor = 1.5))],
         }
     }
 }

@@ -53,7 +53,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create {}", a.out.display()))?;
     let sides = match a.compare {
         Some(c) => c.sides(&settings).to_vec(),
-        None => vec![(String::new(), settings)],
+        None => vec![("", settings)],
     };
     let mut runs = Vec::with_capacity(sides.len());
     for (label, s) in sides {

@@ -36,17 +36,11 @@ pub struct ViewerOptions {
     pub exit_after_frames: Option<u32>,
     /// Write the last frame (UI included) to this PNG file.
     pub screenshot: Option<PathBuf>,
-    /// Samples per pixel of the scene (1, 2 or 4); `None`: 4 on a GPU, 1 on a software adapter
-    /// (`default_msaa`).
+    /// Samples per pixel of the scene (1, 2 or 4); `None`: 4 on a GPU, 1 on a software adapter,
+    /// which rasterises every sample on the CPU.
     pub msaa: Option<u32>,
     /// Whether `state.backend` was asked for; if not, a software adapter runs the CPU solver.
     pub backend_given: bool,
-}
-
-/// The multisampling a viewer gets unless told otherwise: 4 samples per pixel on a GPU, none on
-/// a software adapter, which rasterises every sample on the CPU.
-pub fn default_msaa(device_type: wgpu::DeviceType) -> u32 {
-    if device_type == wgpu::DeviceType::Cpu { 1 } else { 4 }
 }
 
 /// Opens the window and runs until it is closed (or `exit_after_frames` have been drawn).
@@ -276,7 +270,7 @@ fn open(event_loop: &ActiveEventLoop, o: &ViewerOptions) -> Result<Running> {
         color_space: wgpu::SurfaceColorSpace::Auto,
     };
     surface.configure(&ctx.device, &config);
-    let samples = o.msaa.unwrap_or_else(|| default_msaa(ctx.adapter.get_info().device_type));
+    let samples = o.msaa.unwrap_or(if software { 1 } else { 4 });
     let mut state = o.state.clone();
     if software && !o.backend_given {
         // The CPU solver outruns a software rasteriser's compute (cloth-paper: 0.3 against 13 ms).

@@ -387,8 +387,11 @@ pub fn compare_labels(ui: &mut Ui, state: &ViewerState, halves: [egui::Rect; 2])
         .iter()
         .zip(sides)
         .map(|(half, (text, _))| {
-            let galley =
-                ui.painter().layout_no_wrap(text, egui::FontId::proportional(14.0), egui::Color32::from_gray(20));
+            let galley = ui.painter().layout_no_wrap(
+                text.to_string(),
+                egui::FontId::proportional(14.0),
+                egui::Color32::from_gray(20),
+            );
             let rect = egui::Rect::from_min_size(half.min + egui::vec2(8.0, 8.0), galley.size() + 2.0 * pad);
             // A clip rectangle of its own: a paint job apart from the rest, bounded by the label.
             let painter = ui.painter().with_clip_rect(rect.expand(1.0));
