@@ -212,3 +212,71 @@ fn absurd_material_parameters_are_refused() {
         assert!(err.contains("--young") || err.contains("--poisson"), "{err}");
     }
 }
+
+/// The closed forms of `material::invariants` against the SVD reference (`Elastic::reference`):
+/// the same `Ψ` and `P` within rounding wherever they apply (small and large strain, stretch,
+/// compression, near the inversion threshold), in `f64` and in the solver's `f32`; never applied
+/// to an inverted element or one with a singular value below `σ_min`, where `energy_stress` is
+/// the reference itself.
+#[test]
+fn closed_forms_match_the_svd_reference() {
+    use eapbd::material::SIGMA_MIN;
+    use eapbd::material::invariants::closed_form;
+    let mut rng = SmallRng::seed_from_u64(7);
+    let to_f32 = |m: &M3<f64>| M3(m.0.map(|c| c.map(|x| x as f32)));
+    for m in models() {
+        let (mut fast, mut slow) = (0, 0);
+        for i in 0..3000 {
+            // Small and large strain, a uniform stretch or compression on top, some mirrored.
+            let spread = [0.02, 0.3, 0.7, 1.2][i % 4];
+            let mut f = random_matrix(&mut rng, spread).scale([1.0, 0.4, 2.5][i % 3]);
+            if i % 7 == 0 {
+                for c in 0..3 {
+                    f.0[c][1] = -f.0[c][1];
+                }
+            }
+            let (psi_ref, p_ref) = m.reference(&f);
+            let scale = max_abs(&p_ref).max(1e-3 * E);
+            let psi_scale = psi_ref.abs().max(1e-3 * E);
+            let Some((psi, p)) = closed_form(&m, &f) else {
+                slow += 1;
+                assert_eq!(
+                    m.energy_stress(&f),
+                    (psi_ref, p_ref),
+                    "{:?}: declined elements take the reference",
+                    m.model
+                );
+                continue;
+            };
+            fast += 1;
+            let sigma = svd(&f).sigma;
+            if m.model != Model::Linear {
+                assert!(sigma[2] >= SIGMA_MIN * (1.0 - 1e-9), "{:?}: closed form taken at σ = {sigma:?}", m.model);
+            }
+            let (ep, es) = ((psi - psi_ref).abs(), max_abs(&p.add(&p_ref.scale(-1.0))));
+            assert!(
+                ep < 1e-9 * psi_scale && es < 1e-9 * scale,
+                "{:?} f64 at σ = {sigma:?}: |ΔΨ| {ep:e}, |ΔP| {es:e}",
+                m.model
+            );
+            // In f32 the closed form is about as accurate as the reference path in f32 (both
+            // against f64), up to 1e-4 of the stress (f32's 6e-8 amplified by the Mooney-Rivlin
+            // terms' `J^{-7/3}` under strong compression) and a floor of the moduli times f32's
+            // epsilon (the cancellation in `I₁ − 3` near rest).
+            let err32 = |(psi, p): (f32, M3<f32>)| {
+                let p = M3(p.0.map(|c| c.map(f64::from)));
+                ((f64::from(psi) - psi_ref).abs(), max_abs(&p.add(&p_ref.scale(-1.0))))
+            };
+            let (ep, es) = err32(m.energy_stress(&to_f32(&f)));
+            let (rp, rs) = err32(m.reference(&to_f32(&f)));
+            let floor = 1e-6 * E * (1.0 + max_abs(&f).powi(4));
+            assert!(
+                ep < 4.0 * rp + 1e-4 * psi_scale + floor && es < 4.0 * rs + 1e-4 * scale + floor,
+                "{:?} f32 at σ = {sigma:?}: |ΔΨ| {ep:e} (SVD path {rp:e}), |ΔP| {es:e} (SVD path {rs:e})",
+                m.model
+            );
+        }
+        // Both paths were exercised for the nonlinear models.
+        assert!(fast > 1000 && (m.model == Model::Linear || slow > 300), "{:?}: {fast} closed, {slow} SVD", m.model);
+    }
+}

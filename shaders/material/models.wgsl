@@ -1,7 +1,8 @@
 // The five 3D elastic models (mirrors src/material/models.rs): energy density Ψ(F) (J/m³) and
 // first Piola–Kirchhoff stress P(F) (Pa). Constants come precomputed in SimParams. All but the
-// linear model are evaluated on the signed singular values with the C¹ Taylor extension below
-// SIGMA_MIN (inversion handling, Stomakhin et al. 2012).
+// linear model are evaluated in closed form (invariants.wgsl) where F is regular, else on the
+// signed singular values with the C¹ Taylor extension below SIGMA_MIN (inversion handling,
+// Stomakhin et al. 2012).
 
 const MODEL_LINEAR: u32 = 0u;
 const MODEL_STVK: u32 = 1u;
@@ -97,6 +98,10 @@ fn material_stress(f: mat3x3<f32>) -> Stress {
         let diag = params.lambda * tr;
         return Stress(params.mu * ddot + params.half_lambda * tr * tr, p + mat3x3<f32>(
             vec3<f32>(diag, 0.0, 0.0), vec3<f32>(0.0, diag, 0.0), vec3<f32>(0.0, 0.0, diag)));
+    }
+    let fast = closed_form(f);
+    if (fast.ok) {
+        return Stress(fast.psi, fast.p);
     }
     let d = signed_svd(f);
     let e = extended(d.sigma);

@@ -8,7 +8,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{Element, Projection, energy_root};
+use super::{Element, Form, Projection, energy_root};
 use crate::material::{Elastic, M3};
 use crate::math::prelude::*;
 
@@ -66,6 +66,19 @@ impl Tet {
         m
     }
 
+    /// Energy `V₀ Ψ(F)` (J) and its gradient (N) at `x`, from one evaluation of the model
+    /// ([`Elastic::energy_stress`](crate::material::Elastic::energy_stress)).
+    #[inline(always)]
+    pub fn energy_and_gradient<V: Vector>(&self, p: &TetParams, x: &[V; 4]) -> (V::S, [V; 4]) {
+        let dm_inv = self.dm_inv::<V::S>();
+        let f = M3::from_cols(x[1] - x[0], x[2] - x[0], x[3] - x[0]).mul(&dm_inv);
+        let (psi, stress) = p.elastic.energy_stress(&f);
+        let volume: V::S = self.volume.into();
+        let h = stress.mul(&dm_inv.transpose()).scale(volume);
+        let (g1, g2, g3) = (h.col::<V>(0), h.col::<V>(1), h.col::<V>(2));
+        (volume * psi, [-(g1 + g2 + g3), g1, g2, g3])
+    }
+
     /// The deformation gradient at `x`.
     pub fn deformation<V: Vector>(&self, x: &[V; 4]) -> M3<V::S> {
         M3::from_cols(x[1] - x[0], x[2] - x[0], x[3] - x[0]).mul(&self.dm_inv())
@@ -85,13 +98,30 @@ impl Element<4> for Tet {
     }
 
     fn energy_gradient<V: Vector>(&self, p: &TetParams, x: &[V; 4]) -> [V; 4] {
-        let stress = p.elastic.stress(&self.deformation(x));
-        let h = stress.mul(&self.dm_inv::<V::S>().transpose()).scale(self.volume.into());
-        let (g1, g2, g3) = (h.col::<V>(0), h.col::<V>(1), h.col::<V>(2));
-        [-(g1 + g2 + g3), g1, g2, g3]
+        self.energy_and_gradient(p, x).1
     }
 
+    /// Both forms from one evaluation of the model ([`Tet::energy_and_gradient`]).
+    #[inline(always)]
+    fn constraint<V: Vector>(
+        &self,
+        p: &TetParams,
+        x: &[V; 4],
+        form: Form,
+        energy_compliance: V::S,
+    ) -> Projection<V, 4> {
+        match form {
+            Form::Energy => {
+                let (e, grad) = self.energy_and_gradient(p, x);
+                Projection { c: e, grad, alpha: energy_compliance }
+            }
+            Form::Compliant => self.compliant(p, x),
+        }
+    }
+
+    #[inline(always)]
     fn compliant<V: Vector>(&self, p: &TetParams, x: &[V; 4]) -> Projection<V, 4> {
-        energy_root(self.energy(p, x), || self.energy_gradient(p, x), p.scale)
+        let (e, grad) = self.energy_and_gradient(p, x);
+        energy_root(e, || grad, p.scale)
     }
 }

@@ -17,10 +17,15 @@ macro_rules! family_module {
 pub const SPRINGS: &str = family_module!("solver/springs.wgsl");
 /// Dihedral bending kernels.
 pub const BENDING: &str = family_module!("solver/bending.wgsl");
-/// Tetrahedra with the 3D elastic models: the shared element kernels over signed SVD and the
-/// models' energy and stress.
-pub const TETS: &str =
-    family_module!("material/svd.wgsl", "material/hyperdual.wgsl", "material/models.wgsl", "solver/tets.wgsl");
+/// Tetrahedra with the 3D elastic models: the shared element kernels over the models' energy
+/// and stress (closed forms where the element is regular, the signed SVD elsewhere).
+pub const TETS: &str = family_module!(
+    "material/svd.wgsl",
+    "material/hyperdual.wgsl",
+    "material/models.wgsl",
+    "material/invariants.wgsl",
+    "solver/tets.wgsl"
+);
 /// Anisotropic membrane triangles (orthotropic StVK).
 pub const MEMBRANES: &str = family_module!("solver/membranes.wgsl");
 /// Per-particle kernels: predict, contacts, finish, Jacobi apply, the energy reduction and the

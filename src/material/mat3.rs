@@ -8,34 +8,39 @@ pub struct M3<S: Real>(pub [[S; 3]; 3]);
 
 impl<S: Real> M3<S> {
     /// The identity.
+    #[inline(always)]
     pub fn identity() -> Self {
         let (o, z) = (S::one(), S::zero());
         M3([[o, z, z], [z, o, z], [z, z, o]])
     }
 
     /// The zero matrix.
+    #[inline(always)]
     pub fn zero() -> Self {
         M3([[S::zero(); 3]; 3])
     }
 
     /// From three column vectors.
+    #[inline(always)]
     pub fn from_cols<V: Vector<S = S>>(a: V, b: V, c: V) -> Self {
         let col = |v: V| [v.get(0), v.get(1), v.get(2)];
         M3([col(a), col(b), col(c)])
     }
 
     /// Entry at row `r`, column `c`.
-    #[inline]
+    #[inline(always)]
     pub fn at(&self, r: usize, c: usize) -> S {
         self.0[c][r]
     }
 
     /// Column `c` as a vector.
+    #[inline(always)]
     pub fn col<V: Vector<S = S>>(&self, c: usize) -> V {
         V::new(self.0[c][0], self.0[c][1], self.0[c][2])
     }
 
     /// `selfᵀ`.
+    #[inline(always)]
     pub fn transpose(&self) -> Self {
         let mut t = Self::zero();
         for c in 0..3 {
@@ -47,6 +52,7 @@ impl<S: Real> M3<S> {
     }
 
     /// `self · o`.
+    #[inline(always)]
     pub fn mul(&self, o: &Self) -> Self {
         let mut m = Self::zero();
         for c in 0..3 {
@@ -62,6 +68,7 @@ impl<S: Real> M3<S> {
     }
 
     /// `self + o`.
+    #[inline(always)]
     pub fn add(&self, o: &Self) -> Self {
         let mut m = *self;
         for c in 0..3 {
@@ -73,6 +80,7 @@ impl<S: Real> M3<S> {
     }
 
     /// `s · self`.
+    #[inline(always)]
     pub fn scale(&self, s: S) -> Self {
         let mut m = *self;
         for c in 0..3 {
@@ -84,11 +92,13 @@ impl<S: Real> M3<S> {
     }
 
     /// Trace.
+    #[inline(always)]
     pub fn trace(&self) -> S {
         self.0[0][0] + self.0[1][1] + self.0[2][2]
     }
 
     /// Determinant.
+    #[inline(always)]
     pub fn det(&self) -> S {
         let m = |r, c| self.at(r, c);
         m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1)) - m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0))
@@ -96,6 +106,7 @@ impl<S: Real> M3<S> {
     }
 
     /// Inverse, or `None` when the determinant vanishes.
+    #[inline(always)]
     pub fn inverse(&self) -> Option<Self> {
         let d = self.det();
         if d.abs() <= S::min_positive_value() || !d.is_finite() {
@@ -119,6 +130,7 @@ impl<S: Real> M3<S> {
     }
 
     /// Frobenius inner product `Σ aᵢⱼ bᵢⱼ`.
+    #[inline(always)]
     pub fn ddot(&self, o: &Self) -> S {
         let mut s = S::zero();
         for c in 0..3 {
@@ -130,6 +142,7 @@ impl<S: Real> M3<S> {
     }
 
     /// `diag(d)`.
+    #[inline(always)]
     pub fn diag(d: [S; 3]) -> Self {
         let z = S::zero();
         M3([[d[0], z, z], [z, d[1], z], [z, z, d[2]]])

@@ -2,6 +2,7 @@
 //! the 3D elastic models (energy density and stress).
 
 pub mod hyperdual;
+pub mod invariants;
 pub mod mat3;
 pub mod models;
 pub mod svd;

@@ -25,6 +25,7 @@
 //! an inverted element a restoring force. `P = U diag(∂Ψ/∂σ) Vᵀ`.
 
 use super::hyperdual::Hd;
+use super::invariants::{closed_form, linear};
 use super::mat3::M3;
 use super::svd::svd;
 use crate::error::{Error, Result};
@@ -192,33 +193,34 @@ impl Elastic {
 
     /// Energy density `Ψ(F)` (J/m³).
     pub fn energy_density<S: Real>(&self, f: &M3<S>) -> S {
-        match self.model {
-            Model::Linear => {
-                let (eps, tr) = small_strain(f);
-                S::from_f64(self.mu) * eps.ddot(&eps) + S::from_f64(0.5 * self.lambda) * tr * tr
-            }
-            _ => self.extended(svd(f).sigma).0,
-        }
+        self.energy_stress(f).0
     }
 
     /// First Piola–Kirchhoff stress `P(F) = ∂Ψ/∂F` (Pa).
     pub fn stress<S: Real>(&self, f: &M3<S>) -> M3<S> {
+        self.energy_stress(f).1
+    }
+
+    /// `Ψ(F)` (J/m³) and `P(F)` (Pa) together: in closed form from the invariants of `F` where
+    /// `det F > 0` and every singular value is at least `σ_min` ([`mod@super::invariants`]), else
+    /// from the signed SVD ([`Elastic::reference`]).
+    #[inline]
+    pub fn energy_stress<S: Real>(&self, f: &M3<S>) -> (S, M3<S>) {
+        closed_form(self, f).unwrap_or_else(|| self.reference(f))
+    }
+
+    /// `Ψ(F)` and `P(F)` by the generic path: the signed SVD of `F`, the energy `Ψ̂(σ)` with its
+    /// derivatives by forward differentiation, the inversion extension below `σ_min` and
+    /// `P = U diag(∂Ψ/∂σ) Vᵀ` (the linear model in its closed form). The reference the closed
+    /// forms are tested against; valid for every `F`.
+    pub fn reference<S: Real>(&self, f: &M3<S>) -> (S, M3<S>) {
         match self.model {
-            Model::Linear => {
-                let (eps, tr) = small_strain(f);
-                eps.scale(S::from_f64(2.0 * self.mu)).add(&M3::identity().scale(S::from_f64(self.lambda) * tr))
-            }
+            Model::Linear => linear(self, f),
             _ => {
                 let d = svd(f);
-                d.compose(self.extended(d.sigma).1)
+                let (psi, g) = self.extended(d.sigma);
+                (psi, d.compose(g))
             }
         }
     }
-}
-
-/// `ε = ½(F + Fᵀ) − I` and `tr ε`.
-fn small_strain<S: Real>(f: &M3<S>) -> (M3<S>, S) {
-    let eps = f.add(&f.transpose()).scale(c(0.5)).add(&M3::identity().scale(-S::one()));
-    let tr = eps.trace();
-    (eps, tr)
 }
