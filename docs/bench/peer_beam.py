@@ -7,8 +7,8 @@ max(nx // 5, 1)), each cell split into 6 tetrahedra around its main diagonal (th
 vertex numbering, tetrahedra and orientation as `TetMesh::box_grid`; 2304 tets at nx = 24).
 Density 1000 kg/m^3 as lumped vertex masses (each tet gives a quarter of its mass to each
 corner; pypbd's own default is 1 kg per particle), E = 1e6 Pa, nu = 0.3, gravity -9.81 in y
-(pypbd's default), the x = -0.5 end fixed (mass 0), frames of 1/60 s, one substep,
-15 position iterations, no velocity iterations, no collision detection, no damping.
+(pypbd's default), the x = -0.5 end fixed (mass 0), frames of 1/60 s, one substep
+of 15 position iterations unless --substeps and --iterations say otherwise, no velocity iterations, no collision detection, no damping.
 
 Run once for each of pypbd's FEM solid methods (`SimulationModel.addSolidConstraints`):
   2 = "FEM-based PBD"  (Bender et al. 2014: C = rest volume x StVK energy density)
@@ -32,7 +32,10 @@ free end (x = +0.5) after the run: a sanity check that the beam sags and does no
 With one 1/60 s substep the XPBD beam goes unstable within a few frames; its inverted tets
 then take the SVD path, so its timing is of that path for many tets.
 
-    python3 docs/bench/peer_beam.py [--resolution 24] [--frames 120] [--csv out.csv]
+    python3 docs/bench/peer_beam.py [--resolution 24] [--frames 120] [--substeps 1] [--iterations 15]
+                                    [--csv out.csv]
+
+`docs/bench/solids_peers.py` runs it beside our models in one sitting.
 """
 import os
 
@@ -48,7 +51,7 @@ import numpy as np
 import pypbd as pbd
 
 DENSITY, YOUNG, POISSON = 1000.0, 1e6, 0.3
-DT, SUBSTEPS, ITERATIONS, WARMUP = 1.0 / 60.0, 1, 15, 5
+DT, WARMUP = 1.0 / 60.0, 5
 METHODS = [("FEM-based XPBD", 3), ("FEM-based PBD", 2)]
 LO, HI = np.array([-0.5, 0.9, -0.1]), np.array([0.5, 1.1, 0.1])
 
@@ -73,15 +76,15 @@ def beam(nx):
     return np.array(points), np.array(tets)
 
 
-def run(method, points, tets, frames):
+def run(method, points, tets, frames, substeps=1, iterations=15):
     sim = pbd.Simulation.getCurrent()
     model = pbd.SimulationModel()  # no collision detection is attached (unlike initDefault)
     model.init()
     sim.setModel(model)
     sim.reset()
     ts = sim.getTimeStep()
-    ts.setValueUInt(pbd.TimeStepController.NUM_SUB_STEPS, SUBSTEPS)
-    ts.setValueUInt(pbd.TimeStepController.MAX_ITERATIONS, ITERATIONS)
+    ts.setValueUInt(pbd.TimeStepController.NUM_SUB_STEPS, substeps)
+    ts.setValueUInt(pbd.TimeStepController.MAX_ITERATIONS, iterations)
     ts.setValueUInt(pbd.TimeStepController.MAX_ITERATIONS_V, 0)
     pbd.TimeManager.getCurrent().setTimeStepSize(DT)
 
@@ -114,21 +117,23 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--resolution", type=int, default=24)
     ap.add_argument("--frames", type=int, default=120)
+    ap.add_argument("--substeps", type=int, default=1)
+    ap.add_argument("--iterations", type=int, default=15)
     ap.add_argument("--csv", metavar="PATH")
     a = ap.parse_args()
     points, tets = beam(a.resolution)
     rows, keep = [], []
     for name, method in METHODS:
-        ms, sag, model = run(method, points, tets, a.frames)
+        ms, sag, model = run(method, points, tets, a.frames, a.substeps, a.iterations)
         keep.append(model)  # the Simulation holds a raw pointer to it
-        ns = ms * 1e6 / (len(tets) * ITERATIONS * SUBSTEPS)
-        print(f"pypbd {name}: {len(tets)} tets, {ITERATIONS} it, median {ms:.3f} ms/frame, "
+        ns = ms * 1e6 / (len(tets) * a.iterations * a.substeps)
+        print(f"pypbd {name}: {len(tets)} tets, {a.substeps} x {a.iterations}, median {ms:.3f} ms/frame, "
               f"{ns:.1f} ns per tet projection, tip sag {sag:.4f} m")
-        rows.append([f"pypbd {name}", len(tets), ITERATIONS, f"{ms:.4f}", f"{ns:.2f}", f"{sag:.6f}"])
+        rows.append([f"pypbd {name}", len(tets), a.substeps, a.iterations, f"{ms:.4f}", f"{ns:.2f}", f"{sag:.6f}"])
     if a.csv:
         with open(a.csv, "w", newline="") as fh:
             w = csv.writer(fh)
-            w.writerow(["solver", "tets", "iterations", "ms_per_frame", "ns_per_projection", "tip_sag_m"])
+            w.writerow(["solver", "tets", "substeps", "iterations", "ms_per_frame", "ns_per_projection", "tip_sag_m"])
             w.writerows(rows)
 
 
