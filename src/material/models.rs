@@ -99,6 +99,9 @@ pub struct Elastic {
     pub mu_ab: f64,
     /// Arruda-Boyce `λ_m`.
     pub lambda_m: f64,
+    /// Arruda-Boyce `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}`, `i = 1..5` (Pa), computed once here rather than
+    /// in every projection.
+    alphas: [f64; 5],
 }
 
 impl Elastic {
@@ -121,16 +124,17 @@ impl Elastic {
                 + 99.0 / (175.0 * l2 * l2)
                 + 513.0 / (875.0 * l2 * l2 * l2)
                 + 42039.0 / (67375.0 * l2 * l2 * l2 * l2));
-        Ok(Elastic { model, mu, lambda, kappa, mu10: mu / 4.0, mu01: mu / 4.0, nu1: kappa / 2.0, mu_ab, lambda_m: lm })
+        let mut alphas = [0.0; 5];
+        for (i, (o, c_i)) in alphas.iter_mut().zip(AB_C).enumerate() {
+            *o = mu_ab * c_i / lm.powi(2 * i as i32);
+        }
+        let (mu10, mu01, nu1) = (mu / 4.0, mu / 4.0, kappa / 2.0);
+        Ok(Elastic { model, mu, lambda, kappa, mu10, mu01, nu1, mu_ab, lambda_m: lm, alphas })
     }
 
     /// Arruda-Boyce's `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}` for `i = 1..5` (Pa).
     pub fn arruda_boyce_alphas(&self) -> [f64; 5] {
-        let mut out = [0.0; 5];
-        for (i, (o, c_i)) in out.iter_mut().zip(AB_C).enumerate() {
-            *o = self.mu_ab * c_i / self.lambda_m.powi(2 * i as i32);
-        }
-        out
+        self.alphas
     }
 
     /// `Ψ̂(σ)` with derivatives, for the isotropic models (positive `σ`).
