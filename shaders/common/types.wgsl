@@ -33,7 +33,8 @@ struct SimParams {
     tet_model: u32,
     tet_scale: f32,
     membrane_scale: f32,
-    pad3: u32,
+    // The soft grab's particle (0xffffffff when none; src/solver/pull.rs).
+    pull_particle: u32,
     // Constants of the 3D model (Pa), precomputed in f64 as in src/material/models.rs: μ, 2μ,
     // μ/2, λ, λ/2, Mooney-Rivlin μ₀₁/2, μ₁₀, ν₁, κ/2, Arruda-Boyce αᵢ.
     mu: f32,
@@ -59,6 +60,8 @@ struct SimParams {
     c_ss: f32,
     // Elements of each constraint family, by its index FAMILY (0 where the scene lacks it).
     counts: vec4<u32>,
+    // The soft grab's target (m) in xyz and its spring stiffness k (N/m) in w.
+    pull: vec4<f32>,
 }
 
 // The energy ledger (one per scene), written by the reduction's final kernel.

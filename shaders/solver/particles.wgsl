@@ -22,7 +22,14 @@ fn predict(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroup
         x_prev[i] = p;
         if (p.w > 0.0) {
             let old = v[i];
-            let vel = old.xyz + params.gravity.xyz * params.h;
+            var vel = old.xyz + params.gravity.xyz * params.h;
+            if (i == params.pull_particle && params.pull.w > 0.0) {
+                // The soft grab (src/solver/pull.rs), p.w its effective inverse mass w̃:
+                // v ← (1 − a)² v + h k w̃ (t − x) with a = h √(k w̃).
+                let k = params.pull.w;
+                let keep = 1.0 - params.h * sqrt(k * p.w);
+                vel = vel * (keep * keep) + (params.pull.xyz - p.xyz) * (params.h * k * p.w);
+            }
             v[i] = vec4<f32>(vel, old.w);
             x[i] = vec4<f32>(p.xyz + vel * params.h, p.w);
         } else {

@@ -287,6 +287,7 @@ impl SceneArgs {
             energy_aware: self.energy_aware,
             sor: self.sor,
             threads: self.threads,
+            pull: None,
         };
         s.validate()?;
         Ok(s)

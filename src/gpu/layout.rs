@@ -54,8 +54,8 @@ pub struct SimParams {
     pub tet_scale: f32,
     /// The compliant form's stiffness scale `s` of the membranes (N/m).
     pub membrane_scale: f32,
-    /// Padding.
-    pub pad: u32,
+    /// The soft grab's particle ([`crate::solver::Pull`]; `u32::MAX` when none).
+    pub pull_particle: u32,
     /// Constants of the 3D model (Pa): `[μ, 2μ, μ/2, λ, λ/2, μ₀₁/2, μ₁₀, ν₁, κ/2, α₁..α₅, 0, 0]`
     /// (Mooney-Rivlin and Arruda-Boyce as in [`crate::material::Elastic`]), each rounded once
     /// from `f64` as on the CPU.
@@ -65,10 +65,12 @@ pub struct SimParams {
     /// Elements of each constraint family, by its index in [`crate::family_list`] (`FAMILY` in
     /// the family's WGSL); 0 for a family the scene lacks.
     pub counts: [u32; 4],
+    /// The soft grab's target (m) in xyz and its stiffness (N/m) in w (0 when none).
+    pub pull: [f32; 4],
 }
 
 const _: () = assert!(crate::scene::FAMILY_COUNT <= 4, "SimParams::counts holds four families");
-const _: () = assert!(std::mem::size_of::<SimParams>() == 208);
+const _: () = assert!(std::mem::size_of::<SimParams>() == 224);
 
 /// The 3D model's constants as [`SimParams::elastic`] holds them.
 fn elastic_constants(e: &Elastic) -> [f32; 16] {
@@ -185,10 +187,11 @@ impl SimParams {
             tet_model: tets.map_or(0, |p| Model::ALL.iter().position(|&m| m == p.elastic.model).unwrap_or(0) as u32),
             tet_scale: tets.map_or(1.0, |p| p.scale as f32),
             membrane_scale: membranes.map_or(1.0, |p| p.scale as f32),
-            pad: 0,
+            pull_particle: s.pull.map_or(u32::MAX, |p| p.particle),
             elastic: tets.map_or([0.0; 16], |p| elastic_constants(&p.elastic)),
             membrane: membranes.map_or([0.0; 4], |p| p.c.map(|v| v as f32)),
             counts,
+            pull: s.pull.map_or([0.0; 4], |p| [p.target[0], p.target[1], p.target[2], p.stiffness]),
         }
     }
 }

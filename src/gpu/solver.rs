@@ -111,6 +111,11 @@ pub struct GpuSolver {
     /// Constant from the balance's gravitational reference to the ground's (J).
     gravity_shift: f64,
     last: Option<Settings>,
+    /// The frame's pulled particle, whose inverse mass in [`GpuSolver::x`] is the soft grab's
+    /// effective one during the substeps ([`crate::solver::Pull`]), and its own inverse mass
+    /// (one `f32`), copied back after them.
+    pulled: Option<u32>,
+    pull_w: wgpu::Buffer,
     n: u32,
     /// Sizes of the buffers created so far.
     memory: GpuMemory,
@@ -262,6 +267,13 @@ impl GpuSolver {
             total_offsets,
             gravity_shift,
             last: None,
+            pulled: None,
+            pull_w: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("pulled particle's inverse mass"),
+                size: 16,
+                usage: wgpu::BufferUsages::COPY_SRC | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             n,
             memory,
             colors,
@@ -321,8 +333,21 @@ impl GpuSolver {
             encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
         pass.set_bind_group(0, &self.particles_bind_group, &[]);
         let start_after = projection.is_some_and(|p| p.start_after);
+        let pulled = self.pulled.take();
         let families = self.with_kernels();
-        for &stage in &list {
+        let substeps = stages::substeps(&list);
+        for &stage in &list[..substeps.end] {
+            self.encode_stage(&mut pass, &families, stage, s, start_after);
+        }
+        if let Some(i) = pulled {
+            // The pulled particle's own inverse mass back for the stages after the substeps.
+            drop(pass);
+            encoder.copy_buffer_to_buffer(&self.pull_w, 0, &self.x, i as u64 * 16 + 12, 4);
+            pass = encoder
+                .begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("frame"), timestamp_writes: None });
+            pass.set_bind_group(0, &self.particles_bind_group, &[]);
+        }
+        for &stage in &list[substeps.end..] {
             self.encode_stage(&mut pass, &families, stage, s, start_after);
         }
         drop(pass);
@@ -330,9 +355,23 @@ impl GpuSolver {
         self.stages = list;
     }
 
+    /// The soft grab's particle takes its effective inverse mass for the frame's substeps
+    /// ([`crate::solver::Pull::effective_inverse_mass`]), one `f32` written; its own goes to
+    /// `pull_w`, which [`GpuSolver::encode_frame`] copies back after the substeps.
+    fn prepare_pull(&mut self, s: &Settings) {
+        self.pulled = None;
+        let Some(p) = s.pull.filter(|p| p.particle < self.n) else { return };
+        let own = self.scene.inv_mass[p.particle as usize];
+        let w = p.effective_inverse_mass(own, s.h());
+        self.queue.write_buffer(&self.x, p.particle as u64 * 16 + 12, bytemuck::bytes_of(&w));
+        self.queue.write_buffer(&self.pull_w, 0, bytemuck::bytes_of(&own));
+        self.pulled = Some(p.particle);
+    }
+
     /// What a frame under `s` needs before its stages: the parameters uploaded, Jacobi's
     /// buffers, the energy reduction's, the local mode's.
     fn prepare(&mut self, s: &Settings) {
+        self.prepare_pull(s);
         if self.last.as_ref() != Some(s) {
             self.queue.write_buffer(&self.params, 0, bytemuck::bytes_of(&SimParams::new(&self.scene, s)));
             self.last = Some(*s);

@@ -18,7 +18,7 @@ use super::particles::{self, FinishStep};
 use super::shared::Prechecked;
 use super::stages::{self, FrameStart, Stage};
 use super::xpbd::{StepConstants, solve_element};
-use super::{Method, Particles, Settings};
+use super::{Method, Particles, Pull, Settings};
 
 use jacobi_sweep::{JacobiAt, jacobi_element};
 use local::{LocalCtx, LocalState, local_adjusted, local_ctx, start_energies};
@@ -175,6 +175,14 @@ impl<V: Vector> CpuSolver<V> {
 
     /// Advances one frame of `settings.dt` (call [`Settings::validate`] first).
     pub fn step_frame(&mut self, s: &Settings) {
+        // The pulled particle answers the substeps' constraints with its effective inverse mass
+        // ([`Pull`]); its own is back for the stages after them.
+        let pulled = s.pull.filter(|p| (p.particle as usize) < self.particles.len()).map(|p| {
+            let i = p.particle as usize;
+            let w = self.particles.w[i];
+            self.particles.w[i] = V::S::from_f64(p.effective_inverse_mass(w.to_f64() as f32, s.h()) as f64);
+            (i, w)
+        });
         let k = self.prepare(s);
         let project = self.before_projection(s);
         let start = FrameStart {
@@ -200,6 +208,9 @@ impl<V: Vector> CpuSolver<V> {
                 Some(pool) => pool.install(|| self.substeps(frame, s, &k)),
                 None => self.substeps(frame, s, &k),
             },
+        }
+        if let Some((i, w)) = pulled {
+            self.particles.w[i] = w;
         }
         self.last = Some(k);
         self.dissipated_before = project.map(|p| p.dissipated);
@@ -331,10 +342,11 @@ impl<V: Vector> CpuSolver<V> {
         self.ledger.last_scale = sigma;
     }
 
-    fn predict(&mut self, h: V::S) {
+    fn predict(&mut self, h: V::S, pull: Option<Pull>) {
         let g = V::from_vec3(self.scene.gravity);
         let p = &mut self.particles;
-        particles::predict(&mut p.x, &mut p.x_prev, &mut p.v, &p.w, g, h);
+        let pull = Pull::within(pull, 0..p.len());
+        particles::predict(&mut p.x, &mut p.x_prev, &mut p.v, &p.w, g, h, pull);
     }
 
     /// The final contact pass and the velocity update ([`particles::finish`], with the last

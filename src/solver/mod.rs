@@ -25,6 +25,7 @@ pub mod energy;
 pub mod jacobi;
 mod particles;
 pub mod projection;
+mod pull;
 mod shared;
 pub mod stages;
 mod xpbd;
@@ -32,6 +33,7 @@ mod xpbd;
 pub use cpu::{CpuSolver, TeamTime};
 pub use energy::EnergyAware;
 pub use particles::Particles;
+pub use pull::Pull;
 pub use xpbd::{StepConstants, delta_lambda, residual};
 
 use crate::constraints::Form;
@@ -95,6 +97,8 @@ pub struct Settings {
     /// one are visited in the order of their groups. A team over every core the process may use
     /// has its threads pinned one per core. The GPU backend ignores it.
     pub threads: u32,
+    /// The soft grab, if a particle is pulled ([`Pull`]).
+    pub pull: Option<Pull>,
 }
 
 /// Smallest color group (elements) that the CPU solver splits over threads; smaller groups run
@@ -119,6 +123,7 @@ impl Default for Settings {
             energy_aware: EnergyAware::Off,
             sor: 1.0,
             threads: 0,
+            pull: None,
         }
     }
 }
@@ -168,6 +173,14 @@ impl Settings {
         }
         if !(finite_pos(self.energy_compliance)) {
             return Err(Error::param("--energy-compliance", self.energy_compliance, "must be positive and finite"));
+        }
+        if let Some(p) = self.pull {
+            if !(p.stiffness.is_finite() && p.stiffness >= 0.0) {
+                return Err(Error::param("grab stiffness", p.stiffness, "must be finite and ≥ 0 (N/m)"));
+            }
+            if !p.target.iter().all(|t| t.is_finite()) {
+                return Err(Error::param("grab target", p.target[0], "must be a finite point (m)"));
+            }
         }
         Ok(())
     }

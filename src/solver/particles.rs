@@ -5,6 +5,7 @@ use crate::math::prelude::*;
 use crate::scene::Scene;
 
 use super::contacts::Colliders;
+use super::pull::Pull;
 
 /// Particle state: positions, positions at the start of the substep, velocities, inverse
 /// masses. Pinned particles have inverse mass 0.
@@ -71,10 +72,22 @@ impl<V: Vector> Particles<V> {
 pub(crate) const WORK_BLOCK: usize = 256;
 
 /// The prediction of a substep of `h` seconds over a range of particles: `x_prev = x`, then free
-/// particles take `v += g h`, `x += v h`; pinned ones keep `x` and get `v = 0`.
-pub(crate) fn predict<V: Vector>(x: &mut [V], x_prev: &mut [V], v: &mut [V], w: &[V::S], g: V, h: V::S) {
-    for (((x, x_prev), v), &w) in x.iter_mut().zip(x_prev).zip(v).zip(w) {
+/// particles take `v += g h`, `x += v h`; pinned ones keep `x` and get `v = 0`. The pulled
+/// particle, given by its index in the range ([`Pull::within`]), then takes the pull's.
+pub(crate) fn predict<V: Vector>(
+    x: &mut [V],
+    x_prev: &mut [V],
+    v: &mut [V],
+    w: &[V::S],
+    g: V,
+    h: V::S,
+    pull: Option<(usize, Pull)>,
+) {
+    for (((x, x_prev), v), &w) in x.iter_mut().zip(&mut *x_prev).zip(&mut *v).zip(w) {
         predict_one(x, x_prev, v, w, g, h);
+    }
+    if let Some((i, p)) = pull.filter(|(i, _)| *i < x.len()) {
+        p.apply(&mut x[i], x_prev[i], &mut v[i], w[i], h);
     }
 }
 
@@ -104,6 +117,8 @@ pub(crate) struct FinishStep<V: Vector> {
     /// sweeps before it are over, so each particle's projection is the same as in a pass of its
     /// own; its work is counted with the final pass's, particle by particle.
     pub in_loop_contacts: bool,
+    /// The soft grab within the range, for the next substep's prediction ([`Pull::within`]).
+    pub pull: Option<(usize, Pull)>,
 }
 
 /// The final contact pass and the velocity update over a range of particles that starts at a
@@ -123,7 +138,7 @@ pub(crate) fn finish<V: Vector>(
     step: FinishStep<V>,
     work: &mut [f64],
 ) {
-    let FinishStep { h, damping, next, in_loop_contacts } = step;
+    let FinishStep { h, damping, next, in_loop_contacts, pull } = step;
     let keep = (V::S::one() - damping * h).max(V::S::zero());
     let inv_h = V::S::one() / h;
     let (scale, damped) = (inv_h * keep, keep != V::S::one());
@@ -147,6 +162,9 @@ pub(crate) fn finish<V: Vector>(
                 predict_one(x, x_prev_slot, v, w, g, h);
             }
         }
+    }
+    if let Some((i, p)) = pull.filter(|(i, _)| next.is_some() && *i < x.len()) {
+        p.apply(&mut x[i], x_prev[i], &mut v[i], w[i], h);
     }
 }
 
@@ -218,10 +236,14 @@ mod tests {
         let blocks = n.div_ceil(WORK_BLOCK);
         let (mut work_a, mut work_b) = (vec![0.0; blocks], vec![0.0; blocks]);
         crate::solver::contacts::project_range(&scene, &mut a.x, &a.x_prev, &a.v, &a.w, (1.0 / h) as f64, &mut work_a);
-        let alone = FinishStep { h, damping, next: None, in_loop_contacts: false };
+        // A soft grab on a free particle, made by the prediction either way.
+        let pull = Pull::within(Some(Pull { particle: 40, target: [0.3, 1.0, 0.2], stiffness: 50.0 }), 0..n);
+        let alone = FinishStep { h, damping, next: None, in_loop_contacts: false, pull: None };
         finish(&scene, &mut a.x, &mut a.x_prev, &mut a.v, &a.w, alone, &mut work_a);
-        predict(&mut a.x, &mut a.x_prev, &mut a.v, &a.w, g, h);
-        let fused = FinishStep { h, damping, next: Some(g), in_loop_contacts: true };
+        let unpulled = a.clone();
+        predict(&mut a.x, &mut a.x_prev, &mut a.v, &a.w, g, h, pull);
+        assert_ne!(a.x[40], unpulled.x[40] + unpulled.v[40] * h + g * h * h, "the pull moved its particle");
+        let fused = FinishStep { h, damping, next: Some(g), in_loop_contacts: true, pull };
         finish(&scene, &mut b.x, &mut b.x_prev, &mut b.v, &b.w, fused, &mut work_b);
         let bits = |p: &Particles<Vec3A>| {
             let all = p.x.iter().chain(&p.x_prev).chain(&p.v);
@@ -236,7 +258,7 @@ mod tests {
         // Without the in-loop pass the final one meets the penetrations and counts nearly the
         // same work (a particle pushed out of the ground into the sphere and back differs).
         let mut work_c = vec![0.0; blocks];
-        let no_loop = FinishStep { h, damping, next: Some(g), in_loop_contacts: false };
+        let no_loop = FinishStep { h, damping, next: Some(g), in_loop_contacts: false, pull };
         finish(&scene, &mut c.x, &mut c.x_prev, &mut c.v, &c.w, no_loop, &mut work_c);
         let (with, without) = (work_b.iter().sum::<f64>(), work_c.iter().sum::<f64>());
         assert!((without - with).abs() <= 1e-3 * with.abs(), "the final pass alone: {without} against {with}");

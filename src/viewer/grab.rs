@@ -1,11 +1,14 @@
-//! Dragging a particle: while grabbed it is pinned (inverse mass 0) at the target point, so the
-//! constraints pull the rest of the body after it; released, it gets its inverse mass back. The
-//! same host-side write on both backends: the CPU solver's arrays, or one `vec4` of the GPU
-//! solver's position buffer (no kernel change: every kernel already treats `w = 0` as pinned).
+//! Dragging a particle. The soft grab (a stiffness above zero) pulls it towards the target
+//! through a spring that both backends integrate in their prediction ([`Pull`]), so a hard pull
+//! stretches the body. The rigid grab (stiffness 0) pins it (inverse mass 0) at the target, so
+//! the constraints pull the rest of the body after it, and gives it its inverse mass back when
+//! released: the same host-side write on both backends, the CPU solver's arrays or one `vec4` of
+//! the GPU solver's position buffer (every kernel treats `w = 0` as pinned).
 
 use glam::{Vec3, Vec3A, Vec4};
 
 use crate::simulation::Simulation;
+use crate::solver::Pull;
 
 /// A grabbed particle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -18,6 +21,8 @@ pub struct Grab {
     pub inv_mass: f32,
     /// Normal of the plane it is dragged in (towards the eye).
     pub plane_normal: Vec3,
+    /// The soft grab's spring stiffness (N/m); 0 pins the particle (the rigid grab).
+    pub stiffness: f32,
 }
 
 /// Sets particle `i` to position `x` (m) with inverse mass `w` (1/kg) on either backend; the
@@ -47,13 +52,30 @@ pub fn set_particle(sim: &mut Simulation, queue: &wgpu::Queue, i: u32, x: Vec3, 
 }
 
 impl Grab {
-    /// Pins the particle at the target (before each frame while held).
-    pub fn hold(&self, sim: &mut Simulation, queue: &wgpu::Queue) {
-        set_particle(sim, queue, self.particle, self.target, 0.0);
+    /// Before each frame while held: the soft grab's pull for the frame's settings, or (rigid)
+    /// the particle pinned at the target and `None`. Either way the hand does work that no
+    /// energy budget counts, so the global balance and the projection start theirs again from
+    /// the state it leaves.
+    pub fn hold(&self, sim: &mut Simulation, queue: &wgpu::Queue) -> Option<Pull> {
+        if self.stiffness <= 0.0 {
+            set_particle(sim, queue, self.particle, self.target, 0.0);
+            return None;
+        }
+        match sim {
+            Simulation::Cpu(c) => {
+                c.ledger.carried = None;
+                c.ledger.budget = None;
+            }
+            Simulation::Gpu(g) => g.restart_budgets(),
+        }
+        Some(Pull { particle: self.particle, target: self.target.to_array(), stiffness: self.stiffness })
     }
 
-    /// Gives the particle its inverse mass back where it is held.
+    /// Lets go: the rigid grab gives the particle its inverse mass back where it is held; the
+    /// soft grab's spring simply stops.
     pub fn release(&self, sim: &mut Simulation, queue: &wgpu::Queue) {
-        set_particle(sim, queue, self.particle, self.target, self.inv_mass);
+        if self.stiffness <= 0.0 {
+            set_particle(sim, queue, self.particle, self.target, self.inv_mass);
+        }
     }
 }

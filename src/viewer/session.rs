@@ -329,7 +329,7 @@ impl Session {
             settings = c.sides(&settings)[i].1;
         }
         if let Some(g) = &self.grab {
-            g.hold(&mut self.sim, &self.queue);
+            settings.pull = g.hold(&mut self.sim, &self.queue);
         }
         if step {
             self.frame += 1;
@@ -487,7 +487,8 @@ impl Session {
         };
         let eye = self.orbit.eye();
         let target = x[i as usize];
-        self.grab = Some(Grab { particle: i, target, inv_mass, plane_normal: (eye - target).normalize_or(Vec3::Z) });
+        let plane_normal = (eye - target).normalize_or(Vec3::Z);
+        self.grab = Some(Grab { particle: i, target, inv_mass, plane_normal, stiffness: self.state.grab_stiffness });
         true
     }
 

@@ -244,6 +244,10 @@ pub struct Requests {
     pub reset_camera: bool,
 }
 
+/// The grab's spring stiffness by default (N/m): a hanging cloth's particle trails the cursor by
+/// a few centimetres and a hard pull stretches the cloth.
+pub const DEFAULT_GRAB_STIFFNESS: f32 = 300.0;
+
 /// Everything the panels edit. The session reads it once per frame.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ViewerState {
@@ -265,6 +269,8 @@ pub struct ViewerState {
     pub group_family: usize,
     /// Relative stretch drawn red in the strain mode.
     pub strain_scale: f32,
+    /// The grab's spring stiffness (N/m; [`crate::solver::Pull`]); 0 pins the grabbed particle.
+    pub grab_stiffness: f32,
     /// Button requests.
     pub requests: Requests,
     /// The last error to show (a refused parameter, a failed rebuild).
@@ -301,6 +307,7 @@ impl ViewerState {
             color_mode: ColorMode::Shaded,
             group_family: 0,
             strain_scale: 0.05,
+            grab_stiffness: DEFAULT_GRAB_STIFFNESS,
             requests: Requests::default(),
             error: None,
         }

@@ -3,12 +3,12 @@
 
 use crate::math::prelude::*;
 
-use super::super::Settings;
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
 use super::super::particles::FinishStep;
 use super::super::stages::{self, Stage};
 use super::super::xpbd::StepConstants;
+use super::super::{Pull, Settings};
 use super::{CpuSolver, gauss_seidel, local_ctx};
 
 impl<V: Vector> CpuSolver<V> {
@@ -26,7 +26,7 @@ impl<V: Vector> CpuSolver<V> {
                 }
                 Stage::BalanceStart => self.ledger.carried = Some(self.total_energy()),
                 Stage::Predict if predicted => predicted = false,
-                Stage::Predict => self.predict(k.h),
+                Stage::Predict => self.predict(k.h, s.pull),
                 Stage::Clear => {
                     self.work_blocks.fill(0.0);
                     for st in &mut self.fam {
@@ -63,6 +63,7 @@ impl<V: Vector> CpuSolver<V> {
                         damping: s.damping.into(),
                         next,
                         in_loop_contacts: s.contacts_in_finish(),
+                        pull: Pull::within(s.pull, 0..self.particles.len()),
                     };
                     self.substep_work = self.finish(step);
                     self.ledger.dissipated += self.substep_work;

@@ -23,6 +23,7 @@ use std::time::{Duration, Instant};
 use crate::math::prelude::*;
 use crate::scene::{FAMILY_COUNT, Family, Scene};
 
+use super::super::Pull;
 use super::super::barrier::{SpinBarrier, Waited, share};
 use super::super::contacts::project_range;
 use super::super::energy::EnergyAware;
@@ -217,7 +218,8 @@ impl<V: Vector> CpuSolver<V> {
                         }
                         if !std::mem::take(&mut predicted) {
                             let (x, x_prev) = (v.x.range_mut(mine.clone()), v.x_prev.range_mut(mine.clone()));
-                            particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h);
+                            let pull = Pull::within(s.pull, mine.clone());
+                            particles::predict(x, x_prev, v.v.range_mut(mine.clone()), &w[mine.clone()], g, k.h, pull);
                         }
                     }
                     Stage::Clear => {
@@ -298,13 +300,15 @@ impl<V: Vector> CpuSolver<V> {
                     Stage::Finish => {
                         predicted = stages::finish_predicts(frame, i);
                         let next = predicted.then_some(g);
-                        let finishing = FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish() };
+                        let finishing =
+                            FinishStep { h: k.h, damping, next, in_loop_contacts: s.contacts_in_finish(), pull: None };
                         // The finish pass over the particles `r` (whole blocks), its work in this
                         // substep's row.
                         let mut finish = |r: Range<usize>| {
                             let work = v.work.range_mut(work_blocks(substep, r.clone()));
                             let (x, x_prev, vel) =
                                 (v.x.range_mut(r.clone()), v.x_prev.range_mut(r.clone()), v.v.range_mut(r.clone()));
+                            let finishing = FinishStep { pull: Pull::within(s.pull, r.clone()), ..finishing };
                             particles::finish(scene, x, x_prev, vel, &w[r], finishing, work);
                         };
                         if chained {
