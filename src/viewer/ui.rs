@@ -266,18 +266,16 @@ fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
         })
         .response
         .on_hover_text("A second run beside this one, differing in one setting, from the same start (C: energy-aware)");
-    ui.horizontal(|ui| {
-        let mut rigid = state.grab_stiffness <= 0.0;
-        if ui.checkbox(&mut rigid, "Rigid grab").on_hover_text("Pin the grabbed particle to the cursor").changed() {
-            state.grab_stiffness = if rigid { 0.0 } else { DEFAULT_GRAB_STIFFNESS };
-        }
-        if !rigid {
-            ui.add(log_slider(&mut state.grab_stiffness, 1.0..=1.0e5, "Grab stiffness", "N/m")).on_hover_text(
-                "The spring k (N/m) that pulls the grabbed particle to the cursor, critically damped: \
-                 the particle trails by the body's pull divided by k, so a hard pull stretches the body.",
-            );
-        }
-    });
+    let mut rigid = state.grab_stiffness <= 0.0;
+    if ui.checkbox(&mut rigid, "Rigid grab").on_hover_text("Pin the grabbed particle to the cursor").changed() {
+        state.grab_stiffness = if rigid { 0.0 } else { DEFAULT_GRAB_STIFFNESS };
+    }
+    if !rigid {
+        ui.add(log_slider(&mut state.grab_stiffness, 1.0..=1.0e5, "Grab stiffness", "N/m")).on_hover_text(
+            "The spring k (N/m) that pulls the grabbed particle to the cursor, critically damped: \
+             the particle trails by the body's pull divided by k, so a hard pull stretches the body.",
+        );
+    }
     ui.label(
         RichText::new("Drag the body to pull it; drag elsewhere to orbit, right-drag to pan, wheel to zoom.").small(),
     );
