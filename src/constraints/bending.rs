@@ -182,8 +182,12 @@ impl Element<4> for Bend {
     /// `[θ₀, k_b]`.
     #[inline(always)]
     fn lane_constants(&self) -> [f32; LANE_CONSTANTS] {
-        [self.rest_angle, self.k]
+        let mut c = [0.0; LANE_CONSTANTS];
+        (c[0], c[1]) = (self.rest_angle, self.k);
+        c
     }
+
+    const LANE_CONSTANT_COUNT: usize = 2;
 
     /// [`Bend::project_plain`] lane by lane, operation for operation.
     const PLAIN_WIDE: bool = true;
@@ -201,7 +205,7 @@ impl Element<4> for Bend {
         let at = lanes.at;
         let xs = [simd::gather(x, at[0]), simd::gather(x, at[1]), simd::gather(x, at[2]), simd::gather(x, at[3])];
         let ws = lanes.w.map(simd::load);
-        let [rest, k] = lanes.consts.map(simd::load);
+        let (rest, k) = (simd::load(lanes.consts[0]), simd::load(lanes.consts[1]));
         let e = xs[1] - xs[0];
         let (a, b) = (xs[2] - xs[0], xs[3] - xs[0]);
         let n1 = e.cross(a);

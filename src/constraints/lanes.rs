@@ -2,8 +2,9 @@
 //!
 //! For each particle slot `n` of the elements, a run of `len` values (entry `n · len + j` for
 //! element `j`): the particles' inverse masses and their byte offsets in the positions array
-//! (index × the size of one position); and for each of the elements' [`LANE_CONSTANTS`]
-//! constants ([`Element::lane_constants`]) a run of `len` values too. A kernel then loads each
+//! (index × the size of one position); and for each of the family's
+//! [`Element::LANE_CONSTANT_COUNT`] constants ([`Element::lane_constants`]) a run of `len`
+//! values too. A kernel then loads each
 //! slot's masses and constants as one vector, and addresses each particle by a plain load of its
 //! offset, without scaling the index or keeping it across the kernel.
 
@@ -13,8 +14,13 @@ use super::Element;
 use super::simd::WIDTH;
 use crate::math::Real;
 
-/// Per-element constants a SIMD kernel loads by lane (e.g. a spring's rest length and stiffness).
-pub const LANE_CONSTANTS: usize = 2;
+/// The most per-element constants a SIMD kernel loads by lane (a spring's rest length and
+/// stiffness; a tetrahedron's `D_m⁻¹` and volume); a family stores its own
+/// [`Element::LANE_CONSTANT_COUNT`].
+pub const LANE_CONSTANTS: usize = 10;
+
+/// What a window's unused constant slots point at.
+static NO_CONSTANTS: [f32; WIDTH] = [0.0; WIDTH];
 
 /// A family's elements slot by slot (module documentation), built once from the elements; the
 /// inverse masses are taken again whenever the particles' change ([`LaneData::set_masses`]).
@@ -27,8 +33,10 @@ pub struct LaneData {
     w: Vec<f32>,
     /// Byte offsets of the particles in the positions array, `N · len`.
     at: Vec<u32>,
-    /// The elements' constants, `LANE_CONSTANTS · len`.
+    /// The elements' constants, `count · len`.
     consts: Vec<f32>,
+    /// Constants per element ([`Element::LANE_CONSTANT_COUNT`]).
+    count: usize,
 }
 
 impl LaneData {
@@ -43,13 +51,14 @@ impl LaneData {
         }
         let mut at = vec![0; N * len];
         by_slot(&mut at, elements, |p| p * stride as u32);
-        let mut consts = vec![0.0; LANE_CONSTANTS * len];
+        let count = E::LANE_CONSTANT_COUNT.min(LANE_CONSTANTS);
+        let mut consts = vec![0.0; count * len];
         for (j, e) in elements.iter().enumerate() {
-            for (m, c) in e.lane_constants().into_iter().enumerate() {
+            for (m, c) in e.lane_constants().into_iter().take(count).enumerate() {
                 consts[m * len + j] = c;
             }
         }
-        LaneData { len, w: Vec::new(), at, consts }
+        LaneData { len, w: Vec::new(), at, consts, count }
     }
 
     /// Takes the inverse masses `w` (1/kg) of `elements`' particles (the elements this was built
@@ -67,12 +76,15 @@ impl LaneData {
     #[inline]
     pub fn view<const N: usize>(&self, range: Range<usize>) -> Option<LaneView<'_, N>> {
         let len = self.len;
-        let complete = self.w.len() == N * len && self.at.len() == N * len && self.consts.len() == LANE_CONSTANTS * len;
+        let complete = self.w.len() == N * len && self.at.len() == N * len && self.consts.len() == self.count * len;
         (complete && range.start <= range.end && range.end <= len).then(|| LaneView {
             len: range.len(),
             w: std::array::from_fn(|n| &self.w[n * len + range.start..n * len + range.end]),
             at: std::array::from_fn(|n| &self.at[n * len + range.start..n * len + range.end]),
-            consts: std::array::from_fn(|m| &self.consts[m * len + range.start..m * len + range.end]),
+            consts: std::array::from_fn(|m| match m < self.count {
+                true => Some(&self.consts[m * len + range.start..m * len + range.end]),
+                false => None,
+            }),
         })
     }
 
@@ -104,7 +116,8 @@ pub struct LaneView<'a, const N: usize> {
     len: usize,
     w: [&'a [f32]; N],
     at: [&'a [u32]; N],
-    consts: [&'a [f32]; LANE_CONSTANTS],
+    /// The family's constants (`None` past its [`Element::LANE_CONSTANT_COUNT`]).
+    consts: [Option<&'a [f32]>; LANE_CONSTANTS],
 }
 
 impl<'a, const N: usize> LaneView<'a, N> {
@@ -126,7 +139,7 @@ impl<'a, const N: usize> LaneView<'a, N> {
             LaneWindow {
                 w: self.w.map(|s| at(s, j)),
                 at: self.at.map(|s| at(s, j)),
-                consts: self.consts.map(|s| at(s, j)),
+                consts: self.consts.map(|s| s.map_or(&NO_CONSTANTS, |s| at(s, j))),
             }
         }
     }
@@ -151,7 +164,8 @@ pub struct LaneWindow<'a, const N: usize> {
     pub w: [&'a [f32; WIDTH]; N],
     /// Byte offsets of particle `n` of each element in the positions array.
     pub at: [&'a [u32; WIDTH]; N],
-    /// Constant `m` of each element ([`Element::lane_constants`]).
+    /// Constant `m` of each element ([`Element::lane_constants`]; zeros past the family's
+    /// [`Element::LANE_CONSTANT_COUNT`]).
     pub consts: [&'a [f32; WIDTH]; LANE_CONSTANTS],
 }
 
@@ -185,9 +199,10 @@ mod tests {
             let e = &es[3 + l];
             assert_eq!([win.at[0][l], win.at[1][l]], [e.a * 16, e.b * 16]);
             assert_eq!([win.w[0][l], win.w[1][l]], [w[e.a as usize] as f32, w[e.b as usize] as f32]);
-            assert_eq!([win.consts[0][l], win.consts[1][l]], e.lane_constants());
+            assert_eq!([win.consts[0][l], win.consts[1][l]], e.lane_constants()[..2]);
+            assert!(win.consts[2..].iter().all(|c| c[l] == 0.0), "a spring has two constants");
         }
-        assert_eq!(d.bytes(), (2 + 2 + LANE_CONSTANTS) * len * 4);
+        assert_eq!(d.bytes(), (2 + 2 + Spring::LANE_CONSTANT_COUNT) * len * 4);
     }
 
     /// Offsets that would not fit 32 bits leave the family to the scalar kernels.

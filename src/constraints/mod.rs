@@ -121,6 +121,9 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
     /// `true` where the family overrides [`Element::project_plain_wide`].
     const PLAIN_WIDE: bool = false;
 
+    /// How many of [`Element::lane_constants`] the family uses (the rest are not stored).
+    const LANE_CONSTANT_COUNT: usize = 0;
+
     /// The element's constants the SIMD kernel loads by lane ([`LaneData`]; unused elsewhere).
     #[inline(always)]
     fn lane_constants(&self) -> [f32; LANE_CONSTANTS] {

@@ -173,8 +173,12 @@ impl Element<2> for Spring {
     /// `[l₀, k]`.
     #[inline(always)]
     fn lane_constants(&self) -> [f32; LANE_CONSTANTS] {
-        [self.rest, self.k]
+        let mut c = [0.0; LANE_CONSTANTS];
+        (c[0], c[1]) = (self.rest, self.k);
+        c
     }
+
+    const LANE_CONSTANT_COUNT: usize = 2;
 
     /// [`Spring::project_plain`] lane by lane, operation for operation.
     const PLAIN_WIDE: bool = true;
@@ -196,7 +200,7 @@ impl Element<2> for Spring {
         let [ia, ib] = lanes.at;
         let (xa, xb) = (simd::gather(x, ia), simd::gather(x, ib));
         let (wa, wb) = (simd::load(lanes.w[0]), simd::load(lanes.w[1]));
-        let [l0, k] = lanes.consts.map(simd::load);
+        let (l0, k) = (simd::load(lanes.consts[0]), simd::load(lanes.consts[1]));
         let d = xb - xa;
         let len = d.length_squared().sqrt();
         let alpha_tilde = Lanes::splat(inv_h2.to_f64() as f32) / k;
