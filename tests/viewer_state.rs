@@ -115,6 +115,51 @@ fn the_compare_control_runs_both_sides_with_their_settings() {
 }
 
 #[test]
+fn compare_mode_pulls_the_same_particle_on_both_sides() {
+    // Grab the cloth in the left half: the twin holds the same grab, both runs pull that particle
+    // towards the target, and letting go lets go in both.
+    let ctx = gpu();
+    let target = OffscreenTarget::new(&ctx.device, 2 * W, H, 4).unwrap();
+    let mut state = start_state(Backend::Cpu);
+    state.compare = Some(Compare::EnergyAware);
+    state.settings.substeps = 10;
+    state.settings.iterations = 3;
+    let mut main = Session::new(&ctx, OFFSCREEN_FORMAT, 4, state).unwrap();
+    let mut twin_session = None;
+    let [left, right] = twin::halves([0.0, 0.0, 2.0 * W as f32, H as f32]);
+    let size = glam::Vec2::new(left[2], left[3]);
+    let step = |main: &mut Session, twin_session: &mut Option<Session>| {
+        twin::sync(twin_session, main, &ctx, OFFSCREEN_FORMAT, 4).unwrap();
+        let t = twin_session.as_mut().expect("compare mode makes the twin");
+        main.apply_changes(&ctx);
+        t.apply_changes(&ctx);
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        main.encode_frame(&mut enc, target.views(), left).unwrap();
+        t.encode_frame(&mut enc, target.views(), right).unwrap();
+        ctx.queue.submit([enc.finish()]);
+    };
+    step(&mut main, &mut twin_session);
+    // The first pixel of a coarse grid over the left half that hits the cloth.
+    let grid = (1..8).flat_map(|i| (1..8).map(move |j| glam::Vec2::new(i as f32, j as f32) / 8.0));
+    let pixel = grid.map(|f| f * size).find(|&p| main.grab_at(p, size)).expect("the cloth is in the left half");
+    let g = main.grab().unwrap();
+    main.drag_to(pixel - glam::Vec2::new(0.0, 30.0), size);
+    for _ in 0..20 {
+        step(&mut main, &mut twin_session);
+    }
+    let t = twin_session.as_ref().unwrap();
+    assert_eq!(t.grab().map(|t| t.particle), Some(g.particle), "the twin holds the same particle");
+    let aim = main.grab().unwrap().target;
+    for s in [&main, t] {
+        let x = s.simulation().positions().unwrap()[g.particle as usize];
+        assert!(x.distance(aim) < 0.05, "{:?}: the pulled particle at {x}, the target at {aim}", s.side);
+    }
+    main.release();
+    step(&mut main, &mut twin_session);
+    assert!(twin_session.as_ref().unwrap().grab().is_none(), "letting go lets go in both");
+}
+
+#[test]
 fn widgets_change_the_solver_settings_on_the_next_frame() {
     // Drive the control panel as a user would: the iterations and stiffness sliders, the
     // energy-aware radio button.

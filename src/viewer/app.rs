@@ -508,7 +508,9 @@ impl Running {
     fn run_ui(&mut self) -> (Vec<egui::ClippedPrimitive>, egui_wgpu::ScreenDescriptor) {
         let input = self.egui_state.take_egui_input(&self.window);
         let mut rect = egui::Rect::NOTHING;
-        let (state, stats) = self.session.ui_parts();
+        let (state, mut stats) = self.session.ui_parts();
+        stats.twin =
+            self.twin.as_ref().zip(state.compare).map(|(t, c)| (&t.history, c.sides(&state.settings).map(|s| s.0)));
         let mut labels = Vec::new();
         let mut output = self.egui_ctx.run_ui(input, |ui| {
             rect = ui::panels(ui, state, &stats);

@@ -23,7 +23,7 @@ use crate::metrics::FrameStats;
 use crate::render::{Camera, FrameViews, LineSet, Renderer, SceneView};
 use crate::scene::{self, Scene};
 use crate::simulation::{Backend, DrawBuffer, Simulation};
-use crate::solver::Settings;
+use crate::solver::{EnergyAware, Settings};
 
 /// What the statistics panel shows of the scene.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -330,6 +330,11 @@ impl Session {
         }
         if let Some(g) = &self.grab {
             settings.pull = g.hold(&mut self.sim, &self.queue);
+            // The hand's work is in no energy budget: the global balance and the projection
+            // would take it back each frame, so they pause while it pulls (the local mode runs).
+            if settings.pull.is_some() && matches!(settings.energy_aware, EnergyAware::Global | EnergyAware::Project) {
+                settings.energy_aware = EnergyAware::Off;
+            }
         }
         if step {
             self.frame += 1;
@@ -393,6 +398,7 @@ impl Session {
             timings: self.timings,
             frame: self.frame,
             energy_scale: self.energy_scale,
+            twin: None,
         };
         (&mut self.state, stats)
     }
@@ -503,6 +509,20 @@ impl Session {
                 g.target = p;
             }
         }
+    }
+
+    /// The grabbed particle, if one is held.
+    pub fn grab(&self) -> Option<Grab> {
+        self.grab
+    }
+
+    /// Holds `g` as this session's grab (compare mode's twin pulls what the main session pulls),
+    /// letting go of a different one held before.
+    pub fn share_grab(&mut self, g: Option<Grab>) {
+        if let Some(old) = self.grab.take().filter(|old| g.is_none_or(|g| g.particle != old.particle)) {
+            old.release(&mut self.sim, &self.queue);
+        }
+        self.grab = g;
     }
 
     /// Lets the held particle go.

@@ -1,6 +1,7 @@
 //! Compare mode in the window: a second session, the twin, beside the first on the same device,
 //! differing in one setting ([`crate::compare::Compare`]). Every frame it takes the first
-//! session's scene, settings, pause, step, reset and camera, and each side runs its setting.
+//! session's scene, settings, pause, step, reset, camera and grab (the same particle pulled in
+//! both), and each side runs its setting.
 
 use super::session::Session;
 use crate::error::Result;
@@ -9,7 +10,7 @@ use crate::gpu::GpuContext;
 /// Brings `twin` in line with `main` for the coming frame (after the panels ran, before
 /// [`Session::apply_changes`]): made when the panels turn compare mode on, both runs then
 /// starting again from the scene's start; dropped when they turn it off; otherwise given the
-/// main session's state and camera. `format` and `samples` are the window's.
+/// main session's state, camera and grab. `format` and `samples` are the window's.
 pub fn sync(
     twin: &mut Option<Session>,
     main: &mut Session,
@@ -35,6 +36,7 @@ pub fn sync(
     t.side = Some((c, 1));
     t.state = main.state.clone();
     t.orbit = main.orbit;
+    t.share_grab(main.grab());
     Ok(())
 }
 

@@ -33,6 +33,9 @@ pub struct StatsView<'a> {
     pub frame: u32,
     /// Range of the energy view's colour scale (J).
     pub energy_scale: f32,
+    /// In compare mode, the other run's statistics and both sides' labels (this run's first):
+    /// the plots then overlay the two runs, one colour each.
+    pub twin: Option<(&'a History, [&'static str; 2])>,
 }
 
 /// Draws both panels; returns the rectangle left for the scene (points).
@@ -353,6 +356,9 @@ pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
     ui.separator();
     ui.label(RichText::new("Energy (J)").strong());
     let h = v.history;
+    if let Some((t, names)) = v.twin {
+        return compared_plots(ui, [h, t], names);
+    }
     Plot::new("energy").height(130.0).legend(Legend::default()).allow_scroll(false).show(ui, |p| {
         p.line(Line::new("kinetic", h.series(|s| s.kinetic)));
         p.line(Line::new("elastic (held)", h.series(|s| s.elastic)));
@@ -367,6 +373,40 @@ pub fn statistics(ui: &mut Ui, state: &ViewerState, v: &StatsView<'_>) {
     ui.label(RichText::new("log₁₀ residual (rms)").strong());
     Plot::new("residual").height(90.0).allow_scroll(false).show(ui, |p| {
         p.line(Line::new("residual", h.series(|s| s.residual.max(1e-30).log10())));
+    });
+}
+
+/// The plots in compare mode: each run in its colour (the left half's blue, the right half's
+/// orange), total solid and kinetic dashed, unresolved stretch and residual one line a run.
+fn compared_plots(ui: &mut Ui, runs: [&History; 2], names: [&'static str; 2]) {
+    let colours = [egui::Color32::from_rgb(70, 130, 230), egui::Color32::from_rgb(235, 130, 40)];
+    let each = |f: &mut dyn FnMut(&History, &'static str, egui::Color32)| {
+        for ((h, name), colour) in runs.iter().zip(names).zip(colours) {
+            f(h, name, colour);
+        }
+    };
+    Plot::new("energy").height(130.0).legend(Legend::default()).allow_scroll(false).show(ui, |p| {
+        each(&mut |h, name, colour| {
+            p.line(Line::new(format!("total, {name}"), h.series(|s| s.total)).color(colour));
+            p.line(
+                Line::new(format!("kinetic, {name}"), h.series(|s| s.kinetic))
+                    .color(colour)
+                    .style(LineStyle::dashed_loose()),
+            );
+        });
+    });
+    ui.label(RichText::new("Unresolved stretch (J; not energy, not in the total)").strong());
+    Plot::new("unresolved").height(70.0).allow_scroll(false).show(ui, |p| {
+        each(&mut |h, name, colour| {
+            let line = Line::new(name, h.series(|s| s.unresolved)).color(colour);
+            p.line(line.style(LineStyle::dashed_dense()));
+        });
+    });
+    ui.label(RichText::new("log₁₀ residual (rms)").strong());
+    Plot::new("residual").height(90.0).allow_scroll(false).show(ui, |p| {
+        each(&mut |h, name, colour| {
+            p.line(Line::new(name, h.series(|s| s.residual.max(1e-30).log10())).color(colour));
+        });
     });
 }
 
