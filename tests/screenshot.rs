@@ -147,3 +147,37 @@ fn render_compare_draws_both_runs_side_by_side() {
     println!("off and on: {apart:.3} apart");
     assert!(apart > 1.0, "off and on look the same after 5 s ({apart:.3})");
 }
+
+#[test]
+#[cfg(feature = "cli")]
+fn render_gif_writes_a_looping_animation() {
+    // `eapbd render --gif`: every `--every` frames one GIF frame, shown for `--every` × dt, and
+    // the last one the same picture as the PNG of that frame (within the GIF palette's rounding).
+    use image::AnimationDecoder;
+    let dir = std::env::temp_dir().join(format!("eapbd-gif-{}", std::process::id()));
+    let gif = dir.join("run.gif");
+    let run = |extra: &[&str]| {
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_eapbd"))
+            .args(["render", "--scene", "cloth", "--resolution", "12", "--frames", "12", "--every", "4"])
+            .args(["--backend", "cpu", "--width", "96", "--height", "72"])
+            .args(extra)
+            .status()
+            .expect("the binary runs");
+        assert!(status.success());
+    };
+    run(&["--gif", gif.to_str().unwrap()]);
+    run(&["--out", dir.join("png").to_str().unwrap()]);
+    let decoder = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(std::fs::File::open(&gif).unwrap()));
+    let frames = decoder.unwrap().into_frames().collect_frames().unwrap();
+    assert_eq!(frames.len(), 3, "frames 4, 8 and 12");
+    for f in &frames {
+        assert_eq!(f.buffer().dimensions(), (96, 72));
+        let (num, den) = f.delay().numer_denom_ms();
+        let ms = num as f32 / den as f32;
+        assert!((ms - 4000.0 / 60.0).abs() <= 5.0, "each frame shown for 4 frames of 1/60 s: {ms} ms");
+    }
+    let png = image::open(dir.join("png").join("frame_00012.png")).unwrap().to_rgba8();
+    let diff = mean_abs_diff(frames[2].buffer(), &png);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(diff < 4.0, "the last GIF frame against the PNG of frame 12: {diff:.3}");
+}
