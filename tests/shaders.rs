@@ -42,7 +42,7 @@ fn every_wgsl_file_is_in_a_module() {
 #[test]
 fn gpu_structs_match_their_wgsl_sizes() {
     // Sizes of the host structs, mirrored in shaders/common/types.wgsl and the solver kernels.
-    assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 208);
+    assert_eq!(std::mem::size_of::<eapbd::gpu::SimParams>(), 224);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Tet>(), 64);
     assert_eq!(std::mem::size_of::<eapbd::constraints::Membrane>(), 32);
     assert_eq!(std::mem::size_of::<eapbd::gpu::GpuLedger>(), 48);
@@ -58,7 +58,7 @@ fn gpu_structs_match_their_wgsl_sizes() {
         layouter.update(module.to_ctx()).unwrap();
         for (handle, ty) in module.types.iter() {
             let expected = match ty.name.as_deref() {
-                Some("SimParams") => 208,
+                Some("SimParams") => 224,
                 Some("Ledger") => 48,
                 Some("Projection") => 128,
                 Some("DispatchRange") => 16,
