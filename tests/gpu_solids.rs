@@ -127,6 +127,21 @@ fn gpu_tet_energies_match_the_cpu() {
     assert!((c - g.elastic).abs() < 1e-3 * c, "CPU {:.6e} J, GPU {:.6e} J", c, g.elastic);
 }
 
+/// The GPU twin of `tests/solids.rs`' bunny recovery: the stability study's cases that tangle
+/// the bunny end with no inverted tetrahedron on this backend too.
+#[test]
+fn the_bunny_recovers_from_every_disturbance_of_the_stability_study_on_the_gpu() {
+    use eapbd::report::stability::{cases, run_case};
+    use eapbd::simulation::Backend;
+    let gpu = context();
+    for name in ["bunny-dt1e-1", "bunny-velocity-100", "bunny-inverted"] {
+        let case = cases().into_iter().find(|c| c.name == name).unwrap();
+        let o = run_case(&case, Backend::Gpu, Some(&gpu)).unwrap();
+        assert_eq!(o.inverted_end, 0, "{name}: {} of the tetrahedra still inverted", o.inverted_end);
+        assert!(o.passed(), "{name}: {:?}", o.failures());
+    }
+}
+
 #[test]
 fn a_mirrored_cube_regains_positive_volume_on_the_gpu() {
     let (ctx, kernels) = context();

@@ -3,7 +3,7 @@
 //! invariance (and what the linear model satisfies instead), agreement at small strain, and
 //! finite restoring stress for inverted and collapsed elements.
 
-use eapbd::material::{Elastic, M3, Model, svd};
+use eapbd::material::{Elastic, M3, Model, SIGMA_MIN, svd};
 use rand::rngs::SmallRng;
 use rand::{Rng, SeedableRng};
 
@@ -201,6 +201,35 @@ fn inverted_and_collapsed_elements_have_finite_restoring_stress() {
         for f in [M3::<f64>::zero(), M3::diag([1.0, 1.0, 0.0]), M3::diag([1.0, 0.0, 0.0]), M3::diag([1.0, 1.0, -1.0])] {
             let (psi, p) = (m.energy_density(&f), m.stress(&f));
             assert!(psi.is_finite() && p.0.iter().flatten().all(|x: &f64| x.is_finite()), "{:?} at {f:?}", m.model);
+        }
+    }
+}
+
+/// Below `σ_min` the energy keeps rising as an element inverts further (`F = diag(s, s, σ)`), its
+/// slope at least
+/// `κ_inv |σ − σ_min|`, also where the other two axes are stretched (where the model's own slope
+/// at `σ_min` turns positive and a first-order continuation would reward inversion).
+#[test]
+fn the_inversion_continuation_rises_with_depth_even_when_stretched() {
+    for m in models().into_iter().filter(|m| m.model != Model::Linear) {
+        for stretch in [1.0, 2.0, 4.0] {
+            let psi = |s: f64| m.energy_density(&M3::diag([stretch, stretch, s]));
+            let mut last = psi(SIGMA_MIN);
+            // Down to −0.9 × the stretch: beyond, the signed SVD moves the inversion to another
+            // axis (|σ₃| is the smallest singular value).
+            for s in (1..).map(|i| SIGMA_MIN - 0.05 * i as f64).take_while(|&s| s > -0.9 * stretch) {
+                let h = 1e-6;
+                let slope = (psi(s + h) - psi(s - h)) / (2.0 * h);
+                let floor = m.inversion_stiffness * (SIGMA_MIN - s);
+                assert!(
+                    slope <= -floor * (1.0 - 1e-6),
+                    "{:?}, stretch {stretch}: dΨ/dσ = {slope:e} at σ = {s}, want ≤ −{floor:e}",
+                    m.model
+                );
+                let now = psi(s);
+                assert!(now > last, "{:?}, stretch {stretch}: Ψ fell from {last:e} to {now:e} at σ = {s}", m.model);
+                last = now;
+            }
         }
     }
 }

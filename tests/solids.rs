@@ -1,5 +1,6 @@
-//! Volumetric scenes on the CPU: the cantilever under gravity with every 3D model, and a cube
-//! that starts with every tetrahedron inverted.
+//! Volumetric scenes on the CPU: the cantilever under gravity with every 3D model, a cube that
+//! starts with every tetrahedron inverted, and the bunny recovering from the stability study's
+//! disturbances.
 
 use eapbd::material::Model;
 use eapbd::scene::{self, SceneOptions};
@@ -56,6 +57,20 @@ fn a_mirrored_cube_regains_positive_volume() {
         let d = det(&sv);
         let inverted = d.iter().filter(|&&d| d <= 0.0).count();
         assert_eq!(inverted, 0, "{model:?}: {inverted} of {} tetrahedra still inverted", d.len());
+    }
+}
+
+/// The stability study's bunny cases that tangle the body (a 1/10 s step onto the ground, every
+/// particle at a random 100 m/s, the mirrored start) end with no inverted tetrahedron, at rest.
+#[test]
+fn the_bunny_recovers_from_every_disturbance_of_the_stability_study() {
+    use eapbd::report::stability::{cases, run_case};
+    use eapbd::simulation::Backend;
+    for name in ["bunny-dt1e-1", "bunny-velocity-100", "bunny-inverted"] {
+        let case = cases().into_iter().find(|c| c.name == name).unwrap();
+        let o = run_case(&case, Backend::Cpu, None).unwrap();
+        assert_eq!(o.inverted_end, 0, "{name}: {} of the tetrahedra still inverted", o.inverted_end);
+        assert!(o.passed(), "{name}: {:?}", o.failures());
     }
 }
 

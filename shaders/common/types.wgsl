@@ -36,7 +36,8 @@ struct SimParams {
     // The soft grab's particle (0xffffffff when none; src/solver/pull.rs).
     pull_particle: u32,
     // Constants of the 3D model (Pa), precomputed in f64 as in src/material/models.rs: μ, 2μ,
-    // μ/2, λ, λ/2, Mooney-Rivlin μ₀₁/2, μ₁₀, ν₁, κ/2, Arruda-Boyce αᵢ.
+    // μ/2, λ, λ/2, Mooney-Rivlin μ₀₁/2, μ₁₀, ν₁, κ/2, Arruda-Boyce αᵢ, the inversion
+    // continuation's curvature κ_inv.
     mu: f32,
     two_mu: f32,
     half_mu: f32,
@@ -51,7 +52,7 @@ struct SimParams {
     ab2: f32,
     ab3: f32,
     ab4: f32,
-    pad0: f32,
+    inversion_stiffness: f32,
     pad1: f32,
     // The membranes' C_orth = [[c_uu, c_uv, 0], [c_uv, c_vv, 0], [0, 0, c_ss]] (N/m).
     c_uu: f32,

@@ -1,8 +1,8 @@
 // The five 3D elastic models (mirrors src/material/models.rs): energy density Ψ(F) (J/m³) and
 // first Piola–Kirchhoff stress P(F) (Pa). Constants come precomputed in SimParams. All but the
 // linear model are evaluated in closed form (invariants.wgsl) where F is regular, else on the
-// signed singular values with the C¹ Taylor extension below SIGMA_MIN (inversion handling,
-// Stomakhin et al. 2012).
+// signed singular values with the inversion continuation below SIGMA_MIN (after Stomakhin et al.
+// 2012; the module docs of src/material/models.rs).
 
 const MODEL_LINEAR: u32 = 0u;
 const MODEL_STVK: u32 = 1u;
@@ -63,18 +63,27 @@ fn psi_hat(s0: Hd, s1: Hd, s2: Hd) -> Hd {
     }
 }
 
-// Ψ and ∂Ψ/∂σ with the inversion extension below SIGMA_MIN: vec4(∂Ψ/∂σ, Ψ).
+// Ψ and ∂Ψ/∂σ with the inversion continuation below SIGMA_MIN: vec4(∂Ψ/∂σ, Ψ).
+// Ψ = Ψ̂(σ̂) + Σ_k [min(ĝ_k, 0) δ_k + ½ κ_inv δ_k²] over the clamped axes.
 fn extended(sigma: vec3<f32>) -> vec4<f32> {
+    let kappa = params.inversion_stiffness;
     let clamped = max(sigma, vec3<f32>(SIGMA_MIN));
     let h = psi_hat(hd_var(0u, clamped.x), hd_var(1u, clamped.y), hd_var(2u, clamped.z));
     let delta = sigma - clamped;
+    // Clamped axes whose slope counts (ĝ_k < 0).
+    let pulls = (delta != vec3<f32>(0.0)) & (h.g < vec3<f32>(0.0));
     var psi = h.v;
     var grad = h.g;
     for (var k = 0u; k < 3u; k++) {
-        psi += h.g[k] * delta[k];
-        if (delta[k] == 0.0) {
+        if (delta[k] != 0.0) {
+            let slope = select(0.0, h.g[k], pulls[k]);
+            psi += (slope + 0.5 * kappa * delta[k]) * delta[k];
+            grad[k] = slope + kappa * delta[k];
+        } else {
             for (var i = 0u; i < 3u; i++) {
-                grad[k] += h.h[k][i] * delta[i];
+                if (pulls[i]) {
+                    grad[k] += h.h[k][i] * delta[i];
+                }
             }
         }
     }

@@ -56,7 +56,7 @@ pub struct SimParams {
     pub membrane_scale: f32,
     /// The soft grab's particle ([`crate::solver::Pull`]; `u32::MAX` when none).
     pub pull_particle: u32,
-    /// Constants of the 3D model (Pa): `[μ, 2μ, μ/2, λ, λ/2, μ₀₁/2, μ₁₀, ν₁, κ/2, α₁..α₅, 0, 0]`
+    /// Constants of the 3D model (Pa): `[μ, 2μ, μ/2, λ, λ/2, μ₀₁/2, μ₁₀, ν₁, κ/2, α₁..α₅, κ_inv, 0]`
     /// (Mooney-Rivlin and Arruda-Boyce as in [`crate::material::Elastic`]), each rounded once
     /// from `f64` as on the CPU.
     pub elastic: [f32; 16],
@@ -90,7 +90,7 @@ fn elastic_constants(e: &Elastic) -> [f32; 16] {
         ab[2],
         ab[3],
         ab[4],
-        0.0,
+        e.inversion_stiffness,
         0.0,
     ];
     c.map(|v| v as f32)

@@ -19,10 +19,18 @@
 //!
 //! Inversion handling for all but the linear model: the energy is a symmetric function `Ψ̂(σ)`
 //! of the signed singular values of `F` (negative smallest one when `det F < 0`, see
-//! [`mod@super::svd`]); below `σ_min = 0.15` it is continued by its first-order Taylor expansion from
-//! the clamped values `σ̂ = max(σ, σ_min)` (Stomakhin et al. 2012):
-//! `Ψ(σ) = Ψ̂(σ̂) + ∇Ψ̂(σ̂)·(σ − σ̂)`, which is C¹, keeps energy and stress consistent, and gives
-//! an inverted element a restoring force. `P = U diag(∂Ψ/∂σ) Vᵀ`.
+//! [`mod@super::svd`]); below `σ_min = 0.15` it is continued from the clamped values
+//! `σ̂ = max(σ, σ_min)` (after Stomakhin et al. 2012) with `δ = σ − σ̂ ≤ 0`:
+//! `Ψ(σ) = Ψ̂(σ̂) + Σ_k [min(ĝ_k, 0) δ_k + ½ κ_inv δ_k²]`, `ĝ = ∇Ψ̂(σ̂)`,
+//! `κ_inv = 3 (λ + 2μ)` ([`INVERSION_STIFFNESS`] times the P-wave modulus, the curvature every
+//! model has at rest along one axis). Energy and stress stay consistent (`P = U diag(∂Ψ/∂σ) Vᵀ`
+//! is the exact derivative), the energy is bounded below, and an inverted element's restoring
+//! force grows with the depth of the inversion. The quadratic term is what lets a tangled body
+//! recover: with the first-order continuation alone `√Ψ` is concave there, so the compliant
+//! form's Newton step overshoots twofold and Gauss-Seidel keeps a tangled body churning
+//! (docs/stability/README.md). The `min(ĝ_k, 0)` keeps the continuation from rewarding inversion
+//! where the other axes are stretched (`ĝ_k > 0` once `J = σ₁σ₂σ_min` exceeds about 1.9 for
+//! Neo-Hookean at ν = 0.3), which otherwise lets an element run away inverted.
 
 use super::hyperdual::Hd;
 use super::invariants::{closed_form, linear};
@@ -72,6 +80,12 @@ impl std::str::FromStr for Model {
 
 /// Singular values below this use the inversion extension.
 pub const SIGMA_MIN: f64 = 0.15;
+/// The inversion continuation's curvature `κ_inv` as a multiple of the P-wave modulus `λ + 2μ`
+/// (dimensionless). Chosen with the stability study's Neo-Hookean bunny (docs/stability/README.md):
+/// at 1 a body stays tangled after random 100 m/s velocities or a 1/5 s step; 2 and 3 recover
+/// every case on both backends; from 4 up one backend or the other leaves a few tetrahedra
+/// flattened on the ground or the mirrored cube still tangled at 3 s.
+pub const INVERSION_STIFFNESS: f64 = 3.0;
 
 /// Arruda-Boyce's locking stretch `λ_m` by default.
 pub const ARRUDA_BOYCE_LOCKING: f64 = 2.8;
@@ -102,6 +116,8 @@ pub struct Elastic {
     /// Arruda-Boyce `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}`, `i = 1..5` (Pa), computed once here rather than
     /// in every projection.
     alphas: [f64; 5],
+    /// Curvature of the inversion continuation `κ_inv = INVERSION_STIFFNESS (λ + 2μ)` (Pa).
+    pub inversion_stiffness: f64,
 }
 
 impl Elastic {
@@ -129,7 +145,8 @@ impl Elastic {
             *o = mu_ab * c_i / lm.powi(2 * i as i32);
         }
         let (mu10, mu01, nu1) = (mu / 4.0, mu / 4.0, kappa / 2.0);
-        Ok(Elastic { model, mu, lambda, kappa, mu10, mu01, nu1, mu_ab, lambda_m: lm, alphas })
+        let inversion_stiffness = INVERSION_STIFFNESS * (lambda + 2.0 * mu);
+        Ok(Elastic { model, mu, lambda, kappa, mu10, mu01, nu1, mu_ab, lambda_m: lm, alphas, inversion_stiffness })
     }
 
     /// Arruda-Boyce's `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}` for `i = 1..5` (Pa).
@@ -176,18 +193,28 @@ impl Elastic {
         }
     }
 
-    /// `Ψ(σ)` and `∂Ψ/∂σ` with the inversion extension below `σ_min`.
+    /// `Ψ(σ)` and `∂Ψ/∂σ` with the inversion continuation below `σ_min` (module docs):
+    /// `Ψ = Ψ̂(σ̂) + Σ_k [min(ĝ_k, 0) δ_k + ½ κ_inv δ_k²]`. Along a clamped axis the derivative is
+    /// `min(ĝ_k, 0) + κ_inv δ_k`; along a free axis `ĝ_j + Σ_k ∂ĝ_k/∂σ_j δ_k` over the clamped
+    /// `k` with `ĝ_k < 0`.
     fn extended<S: Real>(&self, sigma: [S; 3]) -> (S, [S; 3]) {
         let smin = S::from_f64(SIGMA_MIN);
+        let kappa = S::from_f64(self.inversion_stiffness);
+        let half = S::from_f64(0.5);
         let clamped = sigma.map(|x| x.max(smin));
         let h = self.psi_hat([0, 1, 2].map(|i| Hd::var(i, clamped[i])));
         let delta = [0, 1, 2].map(|i| sigma[i] - clamped[i]);
+        // The clamped axes whose slope counts (ĝ_k < 0), and that slope (0 for the others).
+        let pulls = [0, 1, 2].map(|k| delta[k] != S::zero() && h.g[k] < S::zero());
         let mut psi = h.v;
         let mut grad = h.g;
         for k in 0..3 {
-            psi += h.g[k] * delta[k];
-            if delta[k] == S::zero() {
-                for i in 0..3 {
+            if delta[k] != S::zero() {
+                let slope = if pulls[k] { h.g[k] } else { S::zero() };
+                psi += (slope + half * kappa * delta[k]) * delta[k];
+                grad[k] = slope + kappa * delta[k];
+            } else {
+                for i in (0..3).filter(|&i| pulls[i]) {
                     grad[k] += h.h[i][k] * delta[i];
                 }
             }
