@@ -166,10 +166,17 @@ fn a_mirrored_cube_regains_positive_volume_on_the_gpu() {
 #[test]
 fn centroid_tetrahedra_match_the_cpu() {
     // The paper's surface-plus-centroid tetrahedra: every element shares the centroid, so each
-    // is its own color group (192 dispatches per iteration); 30 frames of the falling cube.
+    // is its own color group (192 of them), and the GPU sweeps them all in one dispatch per
+    // iteration; 30 frames of the falling cube.
     let (ctx, kernels) = context();
     let opts = SceneOptions { tets: scene::TetMode::Centroid, ..SceneOptions::default() };
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
+    let sc = scene::build("cube", &opts).unwrap();
+    assert_eq!(sc.tets.as_ref().unwrap().colors.len(), 192);
+    let gpu = GpuSolver::new(kernels.clone(), &ctx.device, &ctx.queue, sc).unwrap();
+    // Per substep: predict, clear, 10 × one sweep, 9 contact passes, finish.
+    assert_eq!(gpu.dispatches_per_frame(&s), 2 * (1 + 1 + 10 + 9 + 1));
+    drop(gpu);
     // Before it lands (at about frame 17), to the tolerance; through the impact, within the
     // CPU's own sensitivity to a 1e-6 m perturbation.
     let (d, _, _) = compare(&ctx, &kernels, scene::build("cube", &opts).unwrap(), &s, 12);

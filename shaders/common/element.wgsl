@@ -128,10 +128,12 @@ fn element_jacobi_store(j: u32, e: Gathered, pr: Proj, r: vec2<f32>) {
     }
 }
 
-@compute @workgroup_size(64)
-fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+// Gauss-Seidel over the dispatch range's elements first, first + step, ...: a thread's share
+// of a color group (independent elements), or with (0, 1) a run of one-element color groups in
+// their order (each element sees the one before it, as separate dispatches would).
+fn sweep_gauss_seidel(first: u32, step: u32) {
     let plain = plain_form();
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
+    for (var t = first; t < range.count; t += step) {
         let j = range.start + t;
         let e = gather_live(j);
         if (plain && element_plain(j, e)) {
@@ -142,15 +144,37 @@ fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     }
 }
 
-@compute @workgroup_size(64)
-fn gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
-    for (var t = gid.x; t < range.count; t += stride(ng)) {
+// sweep_gauss_seidel in the local energy-aware mode.
+fn sweep_gauss_seidel_local(first: u32, step: u32) {
+    for (var t = first; t < range.count; t += step) {
         let j = range.start + t;
         let e = gather_live(j);
         var pr = element_project(j, positions_of(e));
         pr.c = element_local(j, e, pr);
         element_gs_apply(j, e, pr, element_update(j, e, pr));
     }
+}
+
+@compute @workgroup_size(64)
+fn gauss_seidel(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    sweep_gauss_seidel(gid.x, stride(ng));
+}
+
+@compute @workgroup_size(64)
+fn gauss_seidel_local(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
+    sweep_gauss_seidel_local(gid.x, stride(ng));
+}
+
+// A run of one-element color groups in one dispatch of one invocation (centroid meshes, where
+// every tetrahedron shares the centre, have one group per element).
+@compute @workgroup_size(1)
+fn gauss_seidel_run() {
+    sweep_gauss_seidel(0u, 1u);
+}
+
+@compute @workgroup_size(1)
+fn gauss_seidel_local_run() {
+    sweep_gauss_seidel_local(0u, 1u);
 }
 
 @compute @workgroup_size(64)

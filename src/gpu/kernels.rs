@@ -122,6 +122,10 @@ pub struct FamilyKernels {
     pub gauss_seidel: wgpu::ComputePipeline,
     /// One color group, Gauss-Seidel, local energy-aware mode.
     pub gauss_seidel_local: wgpu::ComputePipeline,
+    /// A run of one-element color groups, Gauss-Seidel in their order by one invocation.
+    pub gauss_seidel_run: wgpu::ComputePipeline,
+    /// [`FamilyKernels::gauss_seidel_run`] in the local energy-aware mode.
+    pub gauss_seidel_local_run: wgpu::ComputePipeline,
     /// All elements, Jacobi.
     pub jacobi: wgpu::ComputePipeline,
     /// All elements, Jacobi, local energy-aware mode.
@@ -313,6 +317,8 @@ impl Kernels {
         FamilyKernels {
             gauss_seidel: make("gauss_seidel", &[p, f, r]),
             gauss_seidel_local: make("gauss_seidel_local", &[p, f, r, local]),
+            gauss_seidel_run: make("gauss_seidel_run", &[p, f, r]),
+            gauss_seidel_local_run: make("gauss_seidel_local_run", &[p, f, r, local]),
             jacobi: make("jacobi", &[p, fj, r]),
             jacobi_local: make("jacobi_local", &[p, fj, r, local]),
             clear: make("clear", &[p, f, r]),

@@ -1,5 +1,6 @@
 //! The per-scene state of the GPU solver and the recording of a frame.
 
+use std::ops::Range;
 use std::sync::Arc;
 
 use glam::{Vec3, Vec4};
@@ -26,18 +27,63 @@ struct GpuFamily {
     elements: wgpu::Buffer,
     lambda: wgpu::Buffer,
     bind_group: wgpu::BindGroup,
-    /// Dynamic offsets of each color group's range entry.
-    color_offsets: Vec<u32>,
+    /// How each color group's sweep is recorded, in order.
+    sweeps: Vec<SweepDispatch>,
     /// Dynamic offset of the whole-family range entry.
     all_offset: u32,
     len: u32,
     /// First Jacobi correction slot.
     slot_base: u32,
-    /// Sizes of the color groups, in order.
-    color_sizes: Vec<u32>,
     jacobi: Option<(wgpu::Buffer, wgpu::BindGroup)>,
     /// Local mode: group 3 (snapshots, start energies).
     local: Option<wgpu::BindGroup>,
+}
+
+/// How the GPU records the Gauss-Seidel sweep of one color group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct SweepDispatch {
+    /// Dynamic offset of the group's range entry.
+    offset: u32,
+    /// Elements in the group.
+    size: u32,
+    /// The group's place in a run of one-element groups.
+    run: Run,
+}
+
+/// A color group's place in a run of two or more consecutive one-element groups (centroid meshes
+/// have one group per element). A frame records a run as one dispatch of one invocation that
+/// projects the run's elements in their order: the same updates as one dispatch per group.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Run {
+    /// Not in a run.
+    None,
+    /// The run's first group, the run's range entry at this dynamic offset.
+    First(u32),
+    /// A later group of the run, recorded with the first.
+    Inside,
+}
+
+/// The sweeps of color groups `colors`, their range entries (each group's, then each run's)
+/// appended to `ranges`.
+fn sweep_dispatches(colors: &[Range<u32>], slot_base: u32, ranges: &mut Vec<DispatchRange>) -> Vec<SweepDispatch> {
+    let mut entry = |start: u32, count: u32| {
+        ranges.push(DispatchRange { start, count, slot_base, pad: 0 });
+        ((ranges.len() as u64 - 1) * RANGE_STRIDE) as u32
+    };
+    let mut out: Vec<SweepDispatch> = colors
+        .iter()
+        .map(|r| SweepDispatch { offset: entry(r.start, r.len() as u32), size: r.len() as u32, run: Run::None })
+        .collect();
+    let mut c = 0;
+    while c < colors.len() {
+        let run = colors[c..].iter().take_while(|r| r.len() == 1).count();
+        if run >= 2 {
+            out[c].run = Run::First(entry(colors[c].start, run as u32));
+            out[c + 1..c + run].iter_mut().for_each(|d| d.run = Run::Inside);
+        }
+        c += run.max(1);
+    }
+    out
 }
 
 mod energy;
@@ -184,11 +230,7 @@ impl GpuSolver {
                 entries: &[entry(0, &elements), entry(1, &lambda)],
             });
             constraint_bytes += elements.size() + lambda.size();
-            let mut color_offsets = Vec::with_capacity(colors.len());
-            for r in colors {
-                color_offsets.push((ranges.len() as u64 * RANGE_STRIDE) as u32);
-                ranges.push(DispatchRange { start: r.start, count: r.end - r.start, slot_base, pad: 0 });
-            }
+            let sweeps = sweep_dispatches(colors, slot_base, &mut ranges);
             let all_offset = (ranges.len() as u64 * RANGE_STRIDE) as u32;
             ranges.push(DispatchRange { start: 0, count: len as u32, slot_base, pad: 0 });
             let f = GpuFamily {
@@ -196,11 +238,10 @@ impl GpuSolver {
                 elements,
                 lambda,
                 bind_group,
-                color_offsets,
+                sweeps,
                 all_offset,
                 len: len as u32,
                 slot_base,
-                color_sizes: colors.iter().map(|r| r.end - r.start).collect(),
                 jacobi: None,
                 local: None,
             };
@@ -337,7 +378,7 @@ impl GpuSolver {
         let families = self.with_kernels();
         let substeps = stages::substeps(&list);
         for &stage in &list[..substeps.end] {
-            self.encode_stage(&mut pass, &families, stage, s, start_after);
+            self.encode_stage(&mut pass, &families, stage, s, (start_after, true));
         }
         if let Some(i) = pulled {
             // The pulled particle's own inverse mass back for the stages after the substeps.
@@ -348,7 +389,7 @@ impl GpuSolver {
             pass.set_bind_group(0, &self.particles_bind_group, &[]);
         }
         for &stage in &list[substeps.end..] {
-            self.encode_stage(&mut pass, &families, stage, s, start_after);
+            self.encode_stage(&mut pass, &families, stage, s, (start_after, true));
         }
         drop(pass);
         drop(families);
@@ -508,4 +549,30 @@ impl GpuSolver {
 /// A family's length, color ranges and element bytes for upload.
 fn upload<E: Element<N> + bytemuck::Pod, const N: usize>(f: &Family<E, N>) -> (usize, &[std::ops::Range<u32>], &[u8]) {
     (f.len(), &f.colors, bytemuck::cast_slice(&f.elements))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn runs_of_one_element_groups_become_one_dispatch_each() {
+        let colors = [0..3, 3..4, 4..5, 5..6, 6..9, 9..10, 10..11];
+        let mut ranges = Vec::new();
+        let d = sweep_dispatches(&colors, 7, &mut ranges);
+        let runs: Vec<Run> = d.iter().map(|d| d.run).collect();
+        let at = |i: usize| (i as u64 * RANGE_STRIDE) as u32;
+        assert_eq!(
+            runs,
+            [Run::None, Run::First(at(7)), Run::Inside, Run::Inside, Run::None, Run::First(at(8)), Run::Inside]
+        );
+        // Every group keeps an entry of its own (stage-by-stage recording), then one per run.
+        assert_eq!(ranges.len(), 9);
+        assert_eq!(
+            d.iter().map(|d| (d.offset, d.size)).collect::<Vec<_>>(),
+            (0..7).map(|i| (at(i), colors[i].len() as u32)).collect::<Vec<_>>()
+        );
+        assert_eq!((ranges[7].start, ranges[7].count, ranges[7].slot_base), (3, 3, 7));
+        assert_eq!((ranges[8].start, ranges[8].count), (9, 2));
+    }
 }

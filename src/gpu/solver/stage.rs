@@ -3,7 +3,7 @@
 
 use glam::{Vec3, Vec4};
 
-use super::{FamilyKernels, GpuFamily, GpuSolver, groups, read_buffer};
+use super::{FamilyKernels, GpuFamily, GpuSolver, Run, groups, read_buffer};
 use crate::error::{Error, Result};
 use crate::scene::FAMILY_COUNT;
 use crate::solver::stages::Stage;
@@ -12,14 +12,16 @@ use crate::solver::{EnergyAware, Settings};
 impl GpuSolver {
     /// Records one stage of a frame under `s` into `pass` ([`stages`]; the particles' bind group
     /// set; `families` from [`GpuSolver::with_kernels`]); `start_after`: [`Stage::Projection`]
-    /// starts the budget instead of projecting.
+    /// starts the budget instead of projecting; `fuse`: a run of one-element color groups is
+    /// recorded whole by its first group's sweep and not by the others' (a whole frame), else
+    /// each group's sweep by itself (stage by stage).
     pub(super) fn encode_stage(
         &self,
         pass: &mut wgpu::ComputePass<'_>,
         families: &[(&GpuFamily, &FamilyKernels)],
         stage: Stage,
         s: &Settings,
-        start_after: bool,
+        (start_after, fuse): (bool, bool),
     ) {
         let k = &*self.kernels;
         let particle_groups = groups(self.n);
@@ -57,13 +59,24 @@ impl GpuSolver {
             Stage::Sweep { family, color } => {
                 let Some((f, fk)) = families.iter().find(|(f, _)| f.kind as usize == family) else { return };
                 let local_family = f.local.as_ref().filter(|_| local);
-                pass.set_pipeline(if local_family.is_some() { &fk.gauss_seidel_local } else { &fk.gauss_seidel });
+                let d = f.sweeps[color];
+                let (offset, workgroups, run) = match d.run {
+                    Run::First(offset) if fuse => (offset, 1, true),
+                    Run::Inside if fuse => return,
+                    _ => (d.offset, groups(d.size), false),
+                };
+                pass.set_pipeline(match (local_family.is_some(), run) {
+                    (false, false) => &fk.gauss_seidel,
+                    (true, false) => &fk.gauss_seidel_local,
+                    (false, true) => &fk.gauss_seidel_run,
+                    (true, true) => &fk.gauss_seidel_local_run,
+                });
                 pass.set_bind_group(1, &f.bind_group, &[]);
                 if let Some(fl) = local_family {
                     pass.set_bind_group(3, fl, &[]);
                 }
-                pass.set_bind_group(2, &self.range_bind_group, &[f.color_offsets[color]]);
-                pass.dispatch_workgroups(groups(f.color_sizes[color]), 1, 1);
+                pass.set_bind_group(2, &self.range_bind_group, &[offset]);
+                pass.dispatch_workgroups(workgroups, 1, 1);
             }
             Stage::Jacobi => {
                 for (f, fk) in families {
@@ -103,13 +116,17 @@ impl GpuSolver {
         }
     }
 
-    /// Dispatches [`GpuSolver::encode_stage`] records for `stage` under `s`.
+    /// Dispatches [`GpuSolver::encode_stage`] records for `stage` under `s` in a whole frame.
     pub(super) fn stage_dispatches(&self, stage: Stage, s: &Settings) -> u64 {
         let present = self.families.len() as u64;
         // The energy reduction: the particles, each family, the total.
         let energy = present + 2;
         match stage {
-            Stage::Predict | Stage::LocalSnapshot | Stage::Sweep { .. } | Stage::Contacts | Stage::Finish => 1,
+            Stage::Sweep { family, color } => {
+                let f = self.families.iter().find(|f| f.kind as usize == family);
+                f.is_some_and(|f| f.sweeps[color].run != Run::Inside) as u64
+            }
+            Stage::Predict | Stage::LocalSnapshot | Stage::Contacts | Stage::Finish => 1,
             Stage::Clear => present,
             Stage::LocalBegin => 1 + present,
             Stage::Jacobi => present + 1,
@@ -129,7 +146,8 @@ impl GpuSolver {
     /// for `s` (one stage, say), after the same preparation as a frame: for stepping through a
     /// frame stage by stage, and for the per-stage parity tests (`tests/gpu_stages.rs`). The
     /// projection's budget is not planned here: a [`Stage::Projection`] projects towards the
-    /// budget the GPU holds.
+    /// budget the GPU holds. Each color group's sweep is recorded by itself, also within a run of
+    /// one-element groups that a whole frame records as one dispatch.
     pub fn step_stages(&mut self, list: &[Stage], s: &Settings) {
         self.prepare(s);
         let mut encoder = self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("stages") });
@@ -138,7 +156,7 @@ impl GpuSolver {
         pass.set_bind_group(0, &self.particles_bind_group, &[]);
         let families = self.with_kernels();
         for &stage in list {
-            self.encode_stage(&mut pass, &families, stage, s, false);
+            self.encode_stage(&mut pass, &families, stage, s, (false, false));
         }
         drop(pass);
         self.queue.submit([encoder.finish()]);
