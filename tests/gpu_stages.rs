@@ -78,6 +78,7 @@ fn check_frame(
     let start = FrameStart {
         balance_start: s.energy_aware == EnergyAware::Global,
         projection_start: s.energy_aware == EnergyAware::Project,
+        self_collision: false,
     };
     let list = stages::frame(&stages::color_counts(cpu.scene()), &s, start);
     for (i, &stage) in list.iter().enumerate() {

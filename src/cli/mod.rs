@@ -58,6 +58,11 @@ pub(crate) fn named<T: FromStr<Err = eapbd::Error>>(s: &str) -> Result<T, eapbd:
     s.parse()
 }
 
+/// `on` or `off`.
+fn on_off(s: &str) -> Result<bool, eapbd::Error> {
+    eapbd::Error::lookup("switch", s, &[("on", true), ("off", false)])
+}
+
 /// A material name from the command line: a spring model, the anisotropic continuum cloth or a
 /// 3D model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -90,7 +95,8 @@ fn material(s: &str) -> Result<MaterialArg, eapbd::Error> {
 /// Scene and solver options common to every command that runs a scene.
 #[derive(Args, Debug, Clone)]
 pub struct SceneArgs {
-    /// Scene: cloth, cloth-paper, cloth-sphere, cloth-free, beam, cube, bunny or bunny-paper.
+    /// Scene: cloth, cloth-paper, cloth-sphere, cloth-free, cloth-drape, beam, cube, bunny or
+    /// bunny-paper.
     #[arg(long, default_value = "cloth-paper")]
     pub scene: String,
     /// bunny, bunny-paper: simulate this OBJ surface instead of the bunny (scaled to 0.3 m tall;
@@ -131,6 +137,14 @@ pub struct SceneArgs {
     /// ones in a checkerboard (alternating: the PositionBasedDynamics library's cloth mesh).
     #[arg(long, default_value = "uniform", value_parser = named::<Diagonals>)]
     pub diagonals: Diagonals,
+    /// Cloth scenes: self-collision on or off (default: on for cloth-drape, off for the others;
+    /// the CPU backend only so far).
+    #[arg(long, value_parser = on_off)]
+    pub self_collision: Option<bool>,
+    /// Cloth scenes: the distance self-collision keeps between particles (m; default: the
+    /// grid's spacing, 1 m / (resolution − 1)).
+    #[arg(long, allow_negative_numbers = true)]
+    pub thickness: Option<f32>,
     /// aniso-cloth: warp modulus E_u along x (N/m; default: --stiffness).
     #[arg(long, allow_negative_numbers = true)]
     pub warp: Option<f64>,
@@ -141,7 +155,7 @@ pub struct SceneArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub shear: Option<f64>,
     /// Dihedral bending stiffness k_b (N·m/rad); 0 disables. Default: 1e-3 for cloth,
-    /// cloth-sphere, cloth-free and the bunny's springs body, 0 for cloth-paper.
+    /// cloth-sphere, cloth-free, cloth-drape and the bunny's springs body, 0 for cloth-paper.
     #[arg(long, allow_negative_numbers = true)]
     pub bending_stiffness: Option<f32>,
     /// Frame time step (s).
@@ -240,6 +254,8 @@ impl SceneArgs {
             body: self.body,
             lattice: self.lattice,
             diagonals: self.diagonals,
+            self_collision: self.self_collision,
+            thickness: self.thickness,
         })
     }
 

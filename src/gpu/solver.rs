@@ -197,6 +197,12 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 impl GpuSolver {
     /// Uploads `scene` to the device of `kernels`.
     pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
+        if scene.self_collision.is_some() {
+            return Err(Error::Gpu(format!(
+                "scene {}: self-collision runs on the CPU backend only so far (--backend cpu, or --self-collision off)",
+                scene.name
+            )));
+        }
         let n = scene.num_particles() as u32;
         let x4: Vec<Vec4> = scene.positions.iter().zip(&scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
         let bytes = bytemuck::cast_slice(&x4);
@@ -366,6 +372,7 @@ impl GpuSolver {
         let start = FrameStart {
             projection_start: projection.is_some_and(|p| p.start_before),
             balance_start: global && !self.ledger_valid,
+            self_collision: false,
         };
         self.ledger_valid = global;
         let mut list = std::mem::take(&mut self.stages);

@@ -1,5 +1,6 @@
 //! Triangle meshes: generation, topology (edges, dihedral pairs), lumped masses, OBJ export.
 
+mod crossings;
 mod grid;
 mod lattice;
 mod load;
@@ -10,6 +11,7 @@ mod tetgen;
 mod tetmesh;
 mod topology;
 
+pub use crossings::crossing_pairs;
 pub use grid::{Diagonals, grid};
 pub use lattice::{Binding, EmbeddedTets, embedded_positions, winding_number};
 pub use load::{load_obj, parse_obj};

@@ -194,5 +194,6 @@ fn springs(name: &str, surface: &TriMesh, o: &SceneOptions, pinned: &dyn Fn(Vec3
         spheres: Vec::new(),
         gravity: if o.gravity { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },
         contact_offset: 0.002,
+        self_collision: None,
     })
 }

@@ -2,7 +2,7 @@
 
 use glam::{Vec2, Vec3};
 
-use super::{Family, Ground, Scene, SceneOptions, Sphere};
+use super::{Family, Ground, Scene, SceneOptions, SelfCollision, Sphere};
 use crate::constraints::{Bend, BendParams, Membrane, MembraneParams, Orthotropic, Spring, SpringParams};
 use crate::error::{Error, Result};
 use crate::mesh::{TriMesh, dihedral_pairs, grid, unique_edges};
@@ -19,7 +19,17 @@ pub(super) enum Kind {
     /// `cloth-free`: no pins, no gravity, no ground, stretched by 10% in its plane at the start
     /// (rest lengths are those of the unstretched grid): the clean energy-conservation test.
     Free,
+    /// `cloth-drape`: a free cloth held upright (its rest shape flat), its lower edge 5 cm above
+    /// the ground and a gentle wave across it, dropped: it piles onto itself in folds.
+    Drape,
 }
+
+/// `cloth-drape`: height of the lower edge (m) and amplitude of the wave (m) along the cloth's
+/// normal, one period over the cloth's height, that decides which way the folds go.
+const DRAPE_BASE: f32 = 0.05;
+const DRAPE_WAVE: f32 = 0.02;
+/// Friction coefficient between the cloth's own layers.
+const SELF_FRICTION: f32 = 0.3;
 
 /// In-plane stretch of `cloth-free` at the start.
 const FREE_STRETCH: f32 = 1.1;
@@ -71,12 +81,27 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         Kind::Paper => "cloth-paper",
         Kind::Sphere => "cloth-sphere",
         Kind::Free => "cloth-free",
+        Kind::Drape => "cloth-drape",
     };
     let positions = match kind {
         Kind::Free => mesh.positions.iter().map(|p| Vec3::new(p.x * FREE_STRETCH, p.y, p.z * FREE_STRETCH)).collect(),
+        // The grid's z (−½..½) becomes the height above the lower edge.
+        Kind::Drape => mesh
+            .positions
+            .iter()
+            .map(|p| {
+                let up = p.z + SIZE / 2.0;
+                Vec3::new(p.x, DRAPE_BASE + up, DRAPE_WAVE * (std::f32::consts::TAU * up / SIZE).sin())
+            })
+            .collect(),
         _ => mesh.positions.clone(),
     };
     let free = kind == Kind::Free;
+    let self_collision = o.self_collision.unwrap_or(kind == Kind::Drape).then(|| SelfCollision {
+        thickness: o.thickness.unwrap_or(SIZE / (n - 1) as f32),
+        friction: SELF_FRICTION,
+        rest: mesh.positions.clone(),
+    });
     Ok(Scene {
         name: name.into(),
         positions,
@@ -93,6 +118,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         spheres,
         gravity: if o.gravity && !free { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },
         contact_offset: 0.005,
+        self_collision,
     })
 }
 

@@ -107,6 +107,20 @@ pub struct Ground {
     pub friction: f32,
 }
 
+/// Particle-particle self-collision of a cloth (docs/algorithm.md §3.1): every pair of particles
+/// (not both pinned) closer than the thickness is pushed apart to it inside the iteration loop,
+/// with Coulomb friction on their relative motion. Pairs whose rest distance is at most the
+/// thickness (neighbours in the mesh) are left to the cloth's own constraints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SelfCollision {
+    /// Distance kept between particles (m).
+    pub thickness: f32,
+    /// Friction coefficient μ (dimensionless).
+    pub friction: f32,
+    /// The rest shape the pairs' rest distances come from (m).
+    pub rest: Vec<Vec3>,
+}
+
 /// A fixed analytic sphere collider with Coulomb friction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sphere {
@@ -153,6 +167,8 @@ pub struct Scene {
     pub gravity: Vec3,
     /// Distance kept between particles and colliders (m).
     pub contact_offset: f32,
+    /// The cloth's self-collision, if on.
+    pub self_collision: Option<SelfCollision>,
 }
 
 /// A surface embedded in a tetrahedral mesh: each vertex follows a tetrahedron by barycentric
@@ -202,6 +218,10 @@ pub struct SceneOptions {
     pub lattice: Option<u32>,
     /// Cloth scenes: how the grid's quads are split into triangles.
     pub diagonals: Diagonals,
+    /// Cloth scenes: self-collision on or off (`None`: the scene's own, on for `cloth-drape`).
+    pub self_collision: Option<bool>,
+    /// Cloth scenes: the self-collision's thickness (m; `None`: the grid's spacing).
+    pub thickness: Option<f32>,
 }
 
 /// How a volumetric scene's body is split into tetrahedra.
@@ -242,13 +262,15 @@ impl Default for SceneOptions {
             body: None,
             lattice: None,
             diagonals: Diagonals::Uniform,
+            self_collision: None,
+            thickness: None,
         }
     }
 }
 
 /// Names of the scenes [`build`] knows.
-pub const SCENES: [&str; 8] =
-    ["cloth", "cloth-paper", "cloth-sphere", "cloth-free", "beam", "cube", "bunny", "bunny-paper"];
+pub const SCENES: [&str; 9] =
+    ["cloth", "cloth-paper", "cloth-sphere", "cloth-free", "cloth-drape", "beam", "cube", "bunny", "bunny-paper"];
 
 /// Constraint iterations a scene is meant to run with: the paper's 15 for `bunny-paper`, 30
 /// otherwise.
@@ -268,7 +290,7 @@ pub fn uses_tets(name: &str, body: Option<Body>) -> bool {
 
 /// Whether scene `name` is a cloth grid (and so takes [`Diagonals`]).
 pub fn is_cloth(name: &str) -> bool {
-    matches!(name, "cloth" | "cloth-paper" | "cloth-sphere" | "cloth-free")
+    matches!(name, "cloth" | "cloth-paper" | "cloth-sphere" | "cloth-free" | "cloth-drape")
 }
 
 /// Builds the scene called `name`.
@@ -314,6 +336,7 @@ fn build_from(name: &str, opts: &SceneOptions, surface: Option<crate::mesh::TriM
             ("cloth-paper", K::Cloth(cloth::Kind::Paper)),
             ("cloth-sphere", K::Cloth(cloth::Kind::Sphere)),
             ("cloth-free", K::Cloth(cloth::Kind::Free)),
+            ("cloth-drape", K::Cloth(cloth::Kind::Drape)),
             ("beam", K::Solid(solid::Kind::Beam)),
             ("cube", K::Solid(solid::Kind::Cube)),
             ("bunny", K::Bunny(bunny::Kind::Drop)),
@@ -327,7 +350,14 @@ fn build_from(name: &str, opts: &SceneOptions, surface: Option<crate::mesh::TriM
         return Err(Error::param(
             "--diagonals",
             "alternating",
-            "applies to the cloth scenes (cloth, cloth-paper, cloth-sphere, cloth-free)",
+            "applies to the cloth scenes (cloth, cloth-paper, cloth-sphere, cloth-free, cloth-drape)",
+        ));
+    }
+    if !matches!(kind, K::Cloth(_)) && (opts.self_collision == Some(true) || opts.thickness.is_some()) {
+        return Err(Error::param(
+            if opts.thickness.is_some() { "--thickness" } else { "--self-collision" },
+            name,
+            "self-collision applies to the cloth scenes",
         ));
     }
     if matches!(kind, K::Bunny(_)) && opts.membrane.is_some() {
@@ -379,6 +409,11 @@ fn validate(o: &SceneOptions) -> Result<()> {
         && !(kb.is_finite() && kb >= 0.0)
     {
         return Err(Error::param("--bending-stiffness", kb, "must be a finite N·m/rad ≥ 0"));
+    }
+    if let Some(t) = o.thickness
+        && !(t.is_finite() && t > 0.0 && t < 1.0)
+    {
+        return Err(Error::param("--thickness", t, "must be a positive distance below 1 m"));
     }
     Ok(())
 }

@@ -89,6 +89,7 @@ pub(super) fn tet_scene(
         spheres: Vec::new(),
         gravity: if o.gravity { Vec3::new(0.0, -9.81, 0.0) } else { Vec3::ZERO },
         contact_offset: 0.002,
+        self_collision: None,
         positions: mesh.positions,
     })
 }

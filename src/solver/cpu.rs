@@ -15,6 +15,7 @@ use crate::scene::{FAMILY_COUNT, Family, Scene};
 use super::energy::{EnergyAware, global_scale};
 use super::jacobi;
 use super::particles::{self, FinishStep};
+use super::self_collision;
 use super::shared::Prechecked;
 use super::stages::{self, FrameStart, Stage};
 use super::xpbd::{StepConstants, solve_element};
@@ -118,6 +119,8 @@ pub struct CpuSolver<V: Vector> {
     colors: [usize; FAMILY_COUNT],
     /// The last frame's stages (kept, so a frame allocates none).
     stages: Vec<Stage>,
+    /// The self-collision's candidate pairs of the current substep.
+    self_pairs: self_collision::SelfPairs,
     /// The dissipated work at the start of the frame under the projection (J), for its budget.
     dissipated_before: Option<f64>,
     /// The last finish pass's dissipated work (J), for the global balance after it.
@@ -156,6 +159,7 @@ impl<V: Vector> CpuSolver<V> {
             w_seen: Vec::new(),
             colors: stages::color_counts(&scene),
             stages: Vec::new(),
+            self_pairs: Default::default(),
             dissipated_before: None,
             substep_work: 0.0,
             team_time: TeamTime::default(),
@@ -188,6 +192,7 @@ impl<V: Vector> CpuSolver<V> {
         let start = FrameStart {
             projection_start: project.is_some_and(|p| p.start),
             balance_start: s.energy_aware == EnergyAware::Global && self.ledger.carried.is_none(),
+            self_collision: self.scene.self_collision.is_some(),
         };
         let mut list = std::mem::take(&mut self.stages);
         stages::frame_into(&mut list, &self.colors, s, start);

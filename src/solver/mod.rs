@@ -26,6 +26,7 @@ pub mod jacobi;
 mod particles;
 pub mod projection;
 mod pull;
+pub mod self_collision;
 mod shared;
 pub mod stages;
 mod xpbd;

@@ -43,6 +43,12 @@ pub enum Stage {
     /// One Jacobi iteration: every family's scaled corrections against the same iterate, then
     /// each particle adds up its own.
     Jacobi,
+    /// The self-collision's candidate pairs at the predicted positions
+    /// ([`crate::scene::SelfCollision`]; CPU only so far).
+    SelfPairs,
+    /// The self-collision's projection of its candidate pairs (every iteration, after the
+    /// sweeps).
+    SelfCollision,
     /// The contact projection (every iteration but the last).
     Contacts,
     /// The last iteration's contact pass, `v = (x − x_prev) / h`, the velocity damping and the
@@ -62,6 +68,8 @@ pub struct FrameStart {
     pub projection_start: bool,
     /// The global balance carries no energy yet ([`Stage::BalanceStart`]).
     pub balance_start: bool,
+    /// The scene's cloth collides with itself ([`Stage::SelfPairs`], [`Stage::SelfCollision`]).
+    pub self_collision: bool,
 }
 
 /// The color groups of each family of `scene` (0 where it has none), the shape of a frame's
@@ -93,6 +101,9 @@ pub fn frame_into(out: &mut Vec<Stage>, colors: &[usize; FAMILY_COUNT], s: &Sett
     }
     for _ in 0..s.substeps {
         out.extend([Stage::Predict, Stage::Clear]);
+        if start.self_collision {
+            out.push(Stage::SelfPairs);
+        }
         if local {
             out.push(Stage::LocalBegin);
         }
@@ -107,6 +118,9 @@ pub fn frame_into(out: &mut Vec<Stage>, colors: &[usize; FAMILY_COUNT], s: &Sett
                     }
                 }
                 Method::Jacobi => out.push(Stage::Jacobi),
+            }
+            if start.self_collision {
+                out.push(Stage::SelfCollision);
             }
             if s.contacts_in_loop(iteration) {
                 out.push(Stage::Contacts);
@@ -161,7 +175,8 @@ mod tests {
     #[test]
     fn the_global_balance_keeps_finish_and_predict_apart() {
         let s = Settings { substeps: 2, iterations: 1, energy_aware: EnergyAware::Global, ..Settings::default() };
-        let stages = frame(&[1, 0, 0, 0], &s, FrameStart { balance_start: true, projection_start: true });
+        let stages =
+            frame(&[1, 0, 0, 0], &s, FrameStart { balance_start: true, projection_start: true, self_collision: false });
         assert_eq!(stages[0], Stage::BalanceStart);
         assert!((0..stages.len()).all(|i| !finish_predicts(&stages, i)));
         assert_eq!(stages.iter().filter(|s| **s == Stage::Balance).count(), 2);
@@ -193,7 +208,7 @@ mod tests {
         ];
         assert_eq!(frame(&[3, 0, 0, 0], &s, FrameStart::default()), want);
         let s = Settings { substeps: 1, iterations: 1, energy_aware: EnergyAware::Project, ..Settings::default() };
-        let start = FrameStart { projection_start: true, balance_start: true };
+        let start = FrameStart { projection_start: true, balance_start: true, self_collision: false };
         let stages = frame(&[0; 4], &s, start);
         assert_eq!(stages, [ProjectionStart, Predict, Clear, Finish, Projection]);
         assert_eq!(substeps(&stages), 1..4);

@@ -97,6 +97,8 @@ impl GpuSolver {
                     pass.dispatch_workgroups(particle_groups, 1, 1);
                 }
             }
+            // `GpuSolver::new` refuses a scene with self-collision.
+            Stage::SelfPairs | Stage::SelfCollision => unreachable!("self-collision is not on the GPU"),
             Stage::Contacts => {
                 pass.set_pipeline(&k.contacts);
                 pass.dispatch_workgroups(particle_groups, 1, 1);
@@ -127,6 +129,7 @@ impl GpuSolver {
                 f.is_some_and(|f| f.sweeps[color].run != Run::Inside) as u64
             }
             Stage::Predict | Stage::LocalSnapshot | Stage::Contacts | Stage::Finish => 1,
+            Stage::SelfPairs | Stage::SelfCollision => 0,
             Stage::Clear => present,
             Stage::LocalBegin => 1 + present,
             Stage::Jacobi => present + 1,

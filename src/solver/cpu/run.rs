@@ -50,6 +50,17 @@ impl<V: Vector> CpuSolver<V> {
                     });
                 }
                 Stage::Jacobi => self.jacobi_iteration(k, local),
+                Stage::SelfPairs => {
+                    if let Some(sc) = &self.scene.self_collision {
+                        self.self_pairs.update(&self.particles.x, &self.particles.w, sc);
+                    }
+                }
+                Stage::SelfCollision => {
+                    if let Some(sc) = &self.scene.self_collision {
+                        let p = &mut self.particles;
+                        self.self_pairs.project(&mut p.x, &p.x_prev, &p.w, sc.friction);
+                    }
+                }
                 Stage::Contacts => {
                     let p = &mut self.particles;
                     let inv_h = (V::S::one() / k.h).to_f64();

@@ -41,8 +41,12 @@ use super::{
 use crate::constraints::{Element, LaneData};
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
-/// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster.
+/// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster. A
+/// scene with self-collision runs on one thread (its pairs are projected in order).
 pub(super) fn splittable<S>(scene: &Scene, fam: &[FamilyState<S>; FAMILY_COUNT]) -> bool {
+    if scene.self_collision.is_some() {
+        return false;
+    }
     let mut large = false;
     crate::for_each_family!(scene, |i, f| {
         large |= fam[i].disjoint && f.colors.iter().any(|r| r.len() >= PARALLEL_MIN_GROUP)
@@ -279,6 +283,8 @@ impl<V: Vector> CpuSolver<V> {
                             *x += d;
                         }
                     }
+                    // `splittable` keeps a scene with self-collision on one thread.
+                    Stage::SelfPairs | Stage::SelfCollision => unreachable!("self-collision runs on one thread"),
                     // Jacobi's: each thread its particles, then the team meets before the next
                     // iteration reads every position.
                     Stage::Contacts if jacobi => {
