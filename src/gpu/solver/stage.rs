@@ -97,8 +97,9 @@ impl GpuSolver {
                     pass.dispatch_workgroups(particle_groups, 1, 1);
                 }
             }
-            // `GpuSolver::new` refuses a scene with self-collision.
-            Stage::SelfPairs | Stage::SelfCollision => unreachable!("self-collision is not on the GPU"),
+            // Nothing to do: `GpuSolver::new` refuses a scene with self-collision (as the CPU
+            // does nothing for these stages on a scene without it).
+            Stage::SelfPairs | Stage::SelfCollision => {}
             Stage::Contacts => {
                 pass.set_pipeline(&k.contacts);
                 pass.dispatch_workgroups(particle_groups, 1, 1);
