@@ -97,7 +97,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
         _ => mesh.positions.clone(),
     };
     let free = kind == Kind::Free;
-    let self_collision = o.self_collision.unwrap_or(kind == Kind::Drape).then(|| SelfCollision {
+    let self_collision = o.self_collision.unwrap_or(super::self_collides_by_default(name)).then(|| SelfCollision {
         thickness: o.thickness.unwrap_or(SIZE / (n - 1) as f32),
         friction: SELF_FRICTION,
         rest: mesh.positions.clone(),

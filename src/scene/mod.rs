@@ -288,6 +288,11 @@ pub fn uses_tets(name: &str, body: Option<Body>) -> bool {
     }
 }
 
+/// Whether scene `name`'s cloth collides with itself unless told otherwise (`cloth-drape`).
+pub fn self_collides_by_default(name: &str) -> bool {
+    name == "cloth-drape"
+}
+
 /// Whether scene `name` is a cloth grid (and so takes [`Diagonals`]).
 pub fn is_cloth(name: &str) -> bool {
     matches!(name, "cloth" | "cloth-paper" | "cloth-sphere" | "cloth-free" | "cloth-drape")

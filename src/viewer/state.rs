@@ -124,6 +124,8 @@ pub struct SceneChoice {
     pub tets: TetMode,
     /// How cloth grids are split into triangles.
     pub diagonals: Diagonals,
+    /// Cloth self-collision on or off; `None` takes the scene's own (on for `cloth-drape`).
+    pub self_collision: Option<bool>,
     /// Gravity on.
     pub gravity: bool,
 }
@@ -159,6 +161,7 @@ impl SceneChoice {
             resolution: opts.resolution,
             tets: opts.tets,
             diagonals: opts.diagonals,
+            self_collision: opts.self_collision,
             gravity: opts.gravity,
         })
     }
@@ -180,6 +183,7 @@ impl SceneChoice {
         self.solid = solid;
         self.bending = bending;
         self.resolution = None;
+        self.self_collision = None;
         let fits = self.materials().contains(&self.material);
         if !fits {
             self.material = self.materials()[0];
@@ -192,6 +196,11 @@ impl SceneChoice {
     /// Whether the current scene is a cloth grid (and so takes [`Diagonals`]).
     pub fn is_cloth(&self) -> bool {
         scene::is_cloth(self.name())
+    }
+
+    /// Whether the cloth collides with itself: the choice, else the scene's own.
+    pub fn self_collides(&self) -> bool {
+        self.self_collision.unwrap_or(scene::self_collides_by_default(self.name()))
     }
 
     /// The materials the current scene takes.
@@ -210,6 +219,7 @@ impl SceneChoice {
             poisson: self.poisson,
             tets: if self.solid { self.tets } else { TetMode::Volume },
             diagonals: if self.is_cloth() { self.diagonals } else { Diagonals::Uniform },
+            self_collision: self.self_collision.filter(|_| self.is_cloth()),
             ..SceneOptions::default()
         };
         match self.material {
@@ -323,6 +333,20 @@ impl ViewerState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn self_collision_follows_the_scene_until_chosen() {
+        let mut c = SceneChoice::new("cloth-drape", &SceneOptions::default()).unwrap();
+        assert!(c.self_collides());
+        c.self_collision = Some(false);
+        assert!(scene::build(c.name(), &c.options().unwrap()).unwrap().self_collision.is_none());
+        c.set_scene(0);
+        assert!(!c.self_collides(), "another scene starts from its own default");
+        let beam = scene::SCENES.iter().position(|s| *s == "beam").unwrap();
+        c.set_scene(beam);
+        c.self_collision = Some(true);
+        assert_eq!(c.options().unwrap().self_collision, None, "solids take none");
+    }
 
     #[test]
     fn every_scene_has_a_choice_whose_options_build() {
