@@ -1,5 +1,5 @@
-//! Screenshot tests: `cloth-paper` and `bunny` after 60 frames, drawn headless on the GPU,
-//! against stored images. Regenerate the reference on purpose with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release
+//! Screenshot tests: `cloth-paper` and `bunny` after 60 frames and `cloth-drape` after 45,
+//! drawn headless on the GPU, against stored images. Regenerate the reference on purpose with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release
 //! --test screenshot`. Needs a GPU adapter (Mesa lavapipe in CI).
 
 use std::path::PathBuf;
@@ -84,6 +84,16 @@ fn bunny_matches_the_stored_image() {
     check_golden(&img, "bunny_60.png");
     let fraction = coverage(&img, &background);
     assert!((0.03..0.6).contains(&fraction), "the bunny covers {:.1}% of the image", 100.0 * fraction);
+}
+
+#[test]
+fn cloth_drape_matches_the_stored_image() {
+    // The upright cloth folding onto the ground with self-collision (the CPU solver, the only
+    // backend that has it so far), three quarters of a second in.
+    let (img, background) = render_scene("cloth-drape", Backend::Cpu, 45, &Settings::default());
+    check_golden(&img, "cloth_drape_45.png");
+    let fraction = coverage(&img, &background);
+    assert!((0.01..0.6).contains(&fraction), "the cloth covers {:.1}% of the image", 100.0 * fraction);
 }
 
 #[test]
