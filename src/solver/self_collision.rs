@@ -1,5 +1,5 @@
 //! Cloth self-collision on the CPU (docs/algorithm.md §3.1; after Müller's Ten-Minute Physics):
-//! particles of a surface kept at least `d = min(thickness, rest distance)` apart.
+//! particles of a surface kept at least the thickness `d` apart.
 //!
 //! Once a substep, after the prediction, the candidate pairs are checked: they hold while no
 //! particle has moved more than a margin `m = MARGIN × thickness` since they were found (beyond
@@ -11,9 +11,8 @@
 //! mesh, which the cloth's own constraints keep; to a rounding of 0.1 %) and pairs of two pinned
 //! particles. Every iteration then projects the candidates in order, Gauss-Seidel: a pair closer
 //! than `d` is pushed apart along its axis `n` by `d − |x_i − x_j|`, shared by inverse mass, and
-//! its relative
-//! tangential motion since the substep's start is cut by at most `μ` times that depth (Coulomb,
-//! as at the ground). Many substeps keep each substep's motion well under the thickness, which
+//! its relative tangential motion since the substep's start is cut by at most `μ` times that
+//! depth (Coulomb, as at the ground). Many substeps keep each substep's motion well under the thickness, which
 //! is what lets particles alone stop a layer passing through another: a particle passing between
 //! the four particles of a square of side `s` comes within `s/√2` of them, so a thickness of at
 //! least `0.71 s` stops it.
@@ -30,12 +29,11 @@ pub const MARGIN: f32 = 0.25;
 /// Relative tolerance on "rest distance at most the thickness" (dimensionless).
 const REST_TOLERANCE: f32 = 1e-3;
 
-/// A candidate pair and the distance it keeps (m).
+/// A candidate pair (particle indices, `i < j`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Pair {
     i: u32,
     j: u32,
-    keep: f32,
 }
 
 /// The candidate pairs of the current substep and the hash's scratch.
@@ -145,7 +143,7 @@ impl SelfPairs {
                                 continue;
                             }
                             if sc.rest[i].distance(sc.rest[j]) > neighbour {
-                                self.pairs.push(Pair { i: i as u32, j: j as u32, keep: sc.thickness });
+                                self.pairs.push(Pair { i: i as u32, j: j as u32 });
                             }
                         }
                     }
@@ -155,14 +153,14 @@ impl SelfPairs {
     }
 
     /// One Gauss-Seidel pass over the candidates at positions `x` (substep start `x_prev`,
-    /// inverse masses `w`), friction coefficient `mu`.
-    pub fn project<V: Vector>(&self, x: &mut [V], x_prev: &[V], w: &[V::S], mu: f32) {
-        let mu = <V::S as From<f32>>::from(mu);
+    /// inverse masses `w`) for `sc`'s thickness and friction.
+    pub fn project<V: Vector>(&self, x: &mut [V], x_prev: &[V], w: &[V::S], sc: &SelfCollision) {
+        let mu = <V::S as From<f32>>::from(sc.friction);
+        let keep = <V::S as From<f32>>::from(sc.thickness);
         for p in &self.pairs {
             let (i, j) = (p.i as usize, p.j as usize);
             let d = x[i] - x[j];
             let dist = d.length();
-            let keep = <V::S as From<f32>>::from(p.keep);
             if dist >= keep || dist <= V::S::zero() {
                 continue;
             }
@@ -234,7 +232,7 @@ mod tests {
         let mut pairs = SelfPairs::default();
         pairs.update(&x, &w, &sc);
         assert_eq!(pairs.len(), 1);
-        pairs.project(&mut x, &prev, &w, 0.0);
+        pairs.project(&mut x, &prev, &w, &sc);
         assert!((x[0].distance(x[1]) - 0.1).abs() < 1e-6);
         // The lighter particle (w = 3) moves three times as far.
         assert!((x[0].x + 0.015).abs() < 1e-6 && (x[1].x - 0.085).abs() < 1e-6, "{x:?}");
