@@ -8,7 +8,7 @@ use eapbd::compare::Compare;
 use eapbd::constraints::Form;
 use eapbd::gpu::{GpuContext, Kernels, read_buffer};
 use eapbd::render::{OFFSCREEN_FORMAT, OffscreenTarget};
-use eapbd::scene::{self, SceneOptions};
+use eapbd::scene::{self, Scene, SceneOptions};
 use eapbd::simulation::{Backend, Simulation};
 use eapbd::solver::{EnergyAware, Settings};
 use eapbd::viewer::grab::Grab;
@@ -214,17 +214,23 @@ fn widgets_change_the_solver_settings_on_the_next_frame() {
     assert!(session.stats.is_some());
 }
 
-#[test]
-fn dragging_a_particle_is_the_same_on_both_backends() {
-    let ctx = gpu();
+/// `cloth-paper` on the CPU and on the GPU (in that order), its free corner and where it starts.
+fn cloth_on_both_backends(ctx: &GpuContext) -> (Scene, u32, Vec3, Vec<Simulation>) {
     let kernels = Arc::new(Kernels::new(&ctx.device));
     let sc = scene::build("cloth-paper", &SceneOptions::default()).unwrap();
     let corner = (sc.num_particles() - 1) as u32;
     let start = sc.positions[corner as usize];
-    let mut sims: Vec<Simulation> = [Backend::Cpu, Backend::Gpu]
+    let sims = [Backend::Cpu, Backend::Gpu]
         .into_iter()
-        .map(|b| Simulation::new(b, sc.clone(), Some((&ctx, &kernels))).unwrap())
+        .map(|b| Simulation::new(b, sc.clone(), Some((ctx, &kernels))).unwrap())
         .collect();
+    (sc, corner, start, sims)
+}
+
+#[test]
+fn dragging_a_particle_is_the_same_on_both_backends() {
+    let ctx = gpu();
+    let (sc, corner, start, mut sims) = cloth_on_both_backends(&ctx);
     let s = Settings::default();
     let inv_mass = sc.inv_mass[corner as usize];
     let mut grab = Grab { particle: corner, target: start, inv_mass, plane_normal: Vec3::Z, stiffness: 0.0 };
@@ -256,15 +262,8 @@ fn dragging_a_particle_is_the_same_on_both_backends() {
 #[test]
 fn the_soft_grab_pulls_on_both_backends_without_pinning() {
     let ctx = gpu();
-    let kernels = Arc::new(Kernels::new(&ctx.device));
-    let sc = scene::build("cloth-paper", &SceneOptions::default()).unwrap();
-    let corner = (sc.num_particles() - 1) as u32;
-    let start = sc.positions[corner as usize];
+    let (sc, corner, start, mut sims) = cloth_on_both_backends(&ctx);
     let inv_mass = sc.inv_mass[corner as usize];
-    let mut sims: Vec<Simulation> = [Backend::Cpu, Backend::Gpu]
-        .into_iter()
-        .map(|b| Simulation::new(b, sc.clone(), Some((&ctx, &kernels))).unwrap())
-        .collect();
     let mut grab = Grab { particle: corner, target: start, inv_mass, plane_normal: Vec3::Z, stiffness: 1000.0 };
     // Held up, a third of the way towards the pins (where the cloth reaches without stretching).
     let pins: Vec<Vec3> = sc.positions.iter().zip(&sc.inv_mass).filter(|(_, w)| **w == 0.0).map(|(x, _)| *x).collect();
