@@ -6,8 +6,8 @@
 //! multiplier responds to rounding more than lavapipe and the CPU differ by, but a GPU that fuses
 //! multiply-adds or rounds its division differently meets it). The scenes and settings together
 //! list every stage: predict, clear, the sweeps of all four families, Jacobi, the contacts, the
-//! finish pass, the local mode's two stages, the global balance with its start, and the
-//! energy-momentum projection with its start. These tests need a GPU adapter (Mesa lavapipe in
+//! finish pass, the local mode's two stages, the global balance with its start, the
+//! energy-momentum projection with its start, and the self-collision's candidates and projection. These tests need a GPU adapter (Mesa lavapipe in
 //! CI) and fail without one.
 
 use std::collections::BTreeSet;
@@ -78,7 +78,7 @@ fn check_frame(
     let start = FrameStart {
         balance_start: s.energy_aware == EnergyAware::Global,
         projection_start: s.energy_aware == EnergyAware::Project,
-        self_collision: false,
+        self_collision: cpu.scene().self_collision.is_some(),
     };
     let list = stages::frame(&stages::color_counts(cpu.scene()), &s, start);
     for (i, &stage) in list.iter().enumerate() {
@@ -124,6 +124,7 @@ fn every_stage_matches_its_cpu_twin() {
         ("cloth", cloth, Settings { energy_aware: EnergyAware::Project, ..base }),
         ("cloth", membrane, base),
         ("beam", SceneOptions::default(), base),
+        ("cloth-drape", cloth, base),
     ];
     let mut seen = BTreeSet::new();
     for (name, opts, s) in cases {
@@ -146,6 +147,8 @@ fn every_stage_matches_its_cpu_twin() {
         "Sweep 2",
         "Sweep 3",
         "Jacobi",
+        "SelfPairs",
+        "SelfCollision",
         "Contacts",
         "Finish",
         "Balance",

@@ -26,6 +26,8 @@ pub struct Kernels {
     pub local_family_layout: wgpu::BindGroupLayout,
     /// Group 3 of the energy kernels: partial sums, ledger, the projection's state.
     pub energy_layout: wgpu::BindGroupLayout,
+    /// Group 1 of the self-collision kernels: its parameters, points, hash words, lists.
+    pub self_layout: wgpu::BindGroupLayout,
     /// `predict`.
     pub predict: wgpu::ComputePipeline,
     /// `contacts` (inside the iteration loop, all but the last iteration), its work added to
@@ -38,6 +40,7 @@ pub struct Kernels {
     jacobi_apply: OnceLock<wgpu::ComputePipeline>,
     local: OnceLock<LocalKernels>,
     energy: OnceLock<EnergyKernels>,
+    self_collision: OnceLock<SelfKernels>,
     families: [OnceLock<FamilyKernels>; crate::scene::FAMILY_COUNT],
 }
 
@@ -113,6 +116,28 @@ pub struct EnergyKernels {
     pub projection_scale: wgpu::ComputePipeline,
     /// The projection's velocity update.
     pub projection_apply: wgpu::ComputePipeline,
+}
+
+/// The self-collision's kernels (`shaders/solver/self_collision.wgsl`), in the order a substep
+/// runs them.
+#[derive(Debug)]
+pub struct SelfKernels {
+    /// Whether the candidates are stale (one workgroup).
+    pub check: wgpu::ComputePipeline,
+    /// The hash's counts to zero.
+    pub clear: wgpu::ComputePipeline,
+    /// Particles per bucket.
+    pub count: wgpu::ComputePipeline,
+    /// The buckets' starts (one workgroup).
+    pub prefix: wgpu::ComputePipeline,
+    /// Particles into their buckets.
+    pub scatter: wgpu::ComputePipeline,
+    /// Each particle's candidates.
+    pub find: wgpu::ComputePipeline,
+    /// Each particle's move in a pass.
+    pub project: wgpu::ComputePipeline,
+    /// The moves added to the positions.
+    pub apply: wgpu::ComputePipeline,
 }
 
 /// The kernels of a constraint family.
@@ -228,6 +253,11 @@ impl Kernels {
         let local_family_layout = layout(device, "local-family", &[storage_entry(0, true), storage_entry(1, false)]);
         let energy_layout =
             layout(device, "energy", &[storage_entry(2, false), storage_entry(3, false), storage_entry(4, false)]);
+        let self_layout = layout(
+            device,
+            "self-collision",
+            &[uniform(0, false), storage_entry(1, false), storage_entry(2, false), storage_entry(3, false)],
+        );
 
         let particles_module = shader_module(device, "particles", &shaders::particles());
         let p = Some(&particles_layout);
@@ -240,6 +270,7 @@ impl Kernels {
             jacobi_apply: OnceLock::new(),
             local: OnceLock::new(),
             energy: OnceLock::new(),
+            self_collision: OnceLock::new(),
             families: Default::default(),
             particles_layout,
             family_layout,
@@ -249,6 +280,7 @@ impl Kernels {
             local_particles_layout,
             local_family_layout,
             energy_layout,
+            self_layout,
         }
     }
 
@@ -288,6 +320,25 @@ impl Kernels {
                 projection_deform: make("projection_deform", &[p, None, None, e]),
                 projection_scale: make("projection_scale", &[p, None, r, e]),
                 projection_apply: make("projection_apply", &[p, None, None, e]),
+            }
+        })
+    }
+
+    /// The self-collision's kernels (built on first use).
+    pub fn self_collision(&self) -> &SelfKernels {
+        self.self_collision.get_or_init(|| {
+            let m = shader_module(&self.device, "self_collision", &shaders::self_collision());
+            let groups = [Some(&self.particles_layout), Some(&self.self_layout)];
+            let make = |entry: &str| pipeline(&self.device, &m, entry, entry, &groups);
+            SelfKernels {
+                check: make("self_check"),
+                clear: make("self_clear"),
+                count: make("self_count"),
+                prefix: make("self_prefix"),
+                scatter: make("self_scatter"),
+                find: make("self_find"),
+                project: make("self_project"),
+                apply: make("self_apply"),
             }
         })
     }

@@ -19,11 +19,14 @@ pub struct GpuMemory {
     pub energy: u64,
     /// The local energy-aware mode's snapshots and start energies.
     pub local: u64,
+    /// Self-collision: rest and reference positions, the pass's moves, the hash and each
+    /// particle's candidates.
+    pub self_collision: u64,
 }
 
 impl GpuMemory {
     /// Every buffer together (bytes).
     pub fn total(&self) -> u64 {
-        self.particles + self.constraints + self.fixed + self.jacobi + self.energy + self.local
+        self.particles + self.constraints + self.fixed + self.jacobi + self.energy + self.local + self.self_collision
     }
 }

@@ -35,6 +35,10 @@ pub const PARTICLES: &str = concat!(
     include_str!("../../shaders/solver/particles.wgsl"),
     include_str!("../../shaders/solver/projection.wgsl")
 );
+/// Cloth self-collision: the candidates' check, the spatial hash, the candidates and their
+/// Jacobi projection.
+pub const SELF_COLLISION: &str =
+    concat!(include_str!("../../shaders/common/types.wgsl"), include_str!("../../shaders/solver/self_collision.wgsl"));
 /// Vertex normals for drawing.
 pub const NORMALS: &str = include_str!("../../shaders/render/normals.wgsl");
 /// An embedded surface's vertices from the particles.
@@ -71,6 +75,14 @@ pub fn particles() -> String {
     solver_head(None) + PARTICLES
 }
 
+/// The self-collision module as compiled: [`SELF_COLLISION`] with its [`solver_head`],
+/// `CAPACITY` and `OVER_RELAXATION` ([`crate::solver::self_collision`]'s constants).
+pub fn self_collision() -> String {
+    use crate::solver::self_collision::{CAPACITY, OVER_RELAXATION};
+    let constants = format!("const CAPACITY: u32 = {CAPACITY}u;\nconst OVER_RELAXATION: f32 = {OVER_RELAXATION:?};\n");
+    solver_head(None) + &constants + SELF_COLLISION
+}
+
 /// The drawing modules, which need no head.
 pub const RENDER: [(&str, &str); 7] = [
     ("normals", NORMALS),
@@ -83,10 +95,11 @@ pub const RENDER: [(&str, &str); 7] = [
 ];
 
 /// Every module as compiled, with its name, for validation: each constraint family's, the
-/// per-particle one and the drawing ones.
+/// per-particle one, the self-collision one and the drawing ones.
 pub fn all() -> Vec<(&'static str, String)> {
     let mut v: Vec<(&str, String)> = super::FamilyKind::ALL.iter().map(|k| (k.name(), k.source())).collect();
     v.push(("particles", particles()));
+    v.push(("self_collision", self_collision()));
     v.extend(RENDER.iter().map(|&(name, src)| (name, src.to_string())));
     v
 }

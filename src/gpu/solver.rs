@@ -89,11 +89,14 @@ fn sweep_dispatches(colors: &[Range<u32>], slot_base: u32, ranges: &mut Vec<Disp
 mod energy;
 mod jacobi_buffers;
 mod projection;
+mod self_collision;
 mod stage;
 
 use energy::EnergyBuffers;
 pub use energy::GpuEnergies;
 use jacobi_buffers::JacobiBuffers;
+pub use self_collision::GpuSelfPairs;
+use self_collision::SelfBuffers;
 
 /// State read back from the GPU.
 #[derive(Clone, Debug, Default)]
@@ -146,6 +149,8 @@ pub struct GpuSolver {
     energy: Option<EnergyBuffers>,
     /// Local mode: group 3 of the per-particle kernels (snapshots).
     local: Option<wgpu::BindGroup>,
+    /// The self-collision's buffers, where the scene has it.
+    self_collision: Option<SelfBuffers>,
     /// Whether the ledger holds the energy at the start of the next substep.
     ledger_valid: bool,
     /// The settings (thread count aside) the projection's budget was carried under, and whether
@@ -197,12 +202,6 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 impl GpuSolver {
     /// Uploads `scene` to the device of `kernels`.
     pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
-        if scene.self_collision.is_some() {
-            return Err(Error::Gpu(format!(
-                "scene {}: self-collision runs on the CPU backend only so far (--backend cpu, or --self-collision off)",
-                scene.name
-            )));
-        }
         let n = scene.num_particles() as u32;
         let x4: Vec<Vec4> = scene.positions.iter().zip(&scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
         let bytes = bytemuck::cast_slice(&x4);
@@ -293,6 +292,8 @@ impl GpuSolver {
             ..GpuMemory::default()
         };
         let colors = stages::color_counts(&scene);
+        let self_collision = scene.self_collision.as_ref().map(|sc| SelfBuffers::new(device, &kernels, sc, n as usize));
+        let memory = GpuMemory { self_collision: self_collision.as_ref().map_or(0, |b| b.bytes), ..memory };
         Ok(GpuSolver {
             kernels,
             device: device.clone(),
@@ -308,6 +309,7 @@ impl GpuSolver {
             jacobi: None,
             energy: None,
             local: None,
+            self_collision,
             ledger_valid: false,
             projected_with: None,
             budget_set: false,
@@ -372,7 +374,7 @@ impl GpuSolver {
         let start = FrameStart {
             projection_start: projection.is_some_and(|p| p.start_before),
             balance_start: global && !self.ledger_valid,
-            self_collision: false,
+            self_collision: self.self_collision.is_some(),
         };
         self.ledger_valid = global;
         let mut list = std::mem::take(&mut self.stages);
@@ -491,7 +493,8 @@ impl GpuSolver {
     /// Dispatches one frame needs under `s` (for reports): the sum over its stages
     /// ([`stages::frame`], once the projection's budget and the balance's energy have started).
     pub fn dispatches_per_frame(&self, s: &Settings) -> u64 {
-        let list = stages::frame(&self.colors, s, FrameStart::default());
+        let start = FrameStart { self_collision: self.self_collision.is_some(), ..FrameStart::default() };
+        let list = stages::frame(&self.colors, s, start);
         list.iter().map(|&stage| self.stage_dispatches(stage, s)).sum()
     }
 

@@ -30,6 +30,12 @@ const DRAPE_BASE: f32 = 0.05;
 const DRAPE_WAVE: f32 = 0.02;
 /// Friction coefficient between the cloth's own layers.
 const SELF_FRICTION: f32 = 0.3;
+/// The self-collision's default thickness as a multiple of the grid's spacing `s`. At least
+/// `1/√2` stops a particle passing between the four of a square; 1.2 also keeps a free edge
+/// folding in a Z at the scale of one square and a layer landing at a few thicknesses per
+/// substep from crossing (docs/algorithm.md §3.1), where `s` itself leaves a few crossing pairs.
+/// Mesh neighbours (rest distance `s`) stay left out; diagonals (`√2 s`) are clear at rest.
+const THICKNESS_PER_SPACING: f32 = 1.2;
 
 /// In-plane stretch of `cloth-free` at the start.
 const FREE_STRETCH: f32 = 1.1;
@@ -98,7 +104,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     };
     let free = kind == Kind::Free;
     let self_collision = o.self_collision.unwrap_or(super::self_collides_by_default(name)).then(|| SelfCollision {
-        thickness: o.thickness.unwrap_or(SIZE / (n - 1) as f32),
+        thickness: o.thickness.unwrap_or(THICKNESS_PER_SPACING * SIZE / (n - 1) as f32),
         friction: SELF_FRICTION,
         rest: mesh.positions.clone(),
     });

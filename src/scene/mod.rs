@@ -220,7 +220,8 @@ pub struct SceneOptions {
     pub diagonals: Diagonals,
     /// Cloth scenes: self-collision on or off (`None`: the scene's own, on for `cloth-drape`).
     pub self_collision: Option<bool>,
-    /// Cloth scenes: the self-collision's thickness (m; `None`: the grid's spacing).
+    /// Cloth scenes: the self-collision's thickness (m; `None`: 1.2 × the grid's
+    /// spacing).
     pub thickness: Option<f32>,
 }
 

@@ -376,6 +376,11 @@ impl<V: Vector> CpuSolver<V> {
         metrics::elastic_energy(&self.scene, &self.particles.x)
     }
 
+    /// The self-collision's candidates (none without self-collision).
+    pub fn self_pairs(&self) -> &self_collision::SelfPairs {
+        &self.self_pairs
+    }
+
     /// Multipliers of the last substep, per family in solve order.
     pub fn lambdas(&self) -> Lambdas<'_, V::S> {
         std::array::from_fn(|i| self.fam[i].lambda.as_slice())

@@ -1,21 +1,31 @@
-//! Cloth self-collision on the CPU (docs/algorithm.md §3.1; after Müller's Ten-Minute Physics):
-//! particles of a surface kept at least the thickness `d` apart.
+//! Cloth self-collision (docs/algorithm.md §3.1; after Müller's Ten-Minute Physics): particles
+//! of a surface kept at least the thickness `d` apart. The CPU's stages; the GPU's twins are
+//! `shaders/solver/self_collision.wgsl`, step for step.
 //!
-//! Once a substep, after the prediction, the candidate pairs are checked: they hold while no
+//! Once a substep, after the prediction, the candidates are checked: they hold while no
 //! particle has moved more than a margin `m = MARGIN × thickness` since they were found (beyond
 //! the particles' mean displacement, so two moved at most `2m` towards each other), else a
 //! spatial hash of the particles (counting sort of their cells: count, prefix sum, scatter)
-//! finds them anew, every pair closer than `r + 2m` with `r = QUERY × thickness`. So every pair
-//! closer than `r` now was found, and a cloth that moves slowly keeps its pairs for many
-//! substeps. Left out: pairs whose rest distance is at most the thickness (neighbours in the
-//! mesh, which the cloth's own constraints keep; to a rounding of 0.1 %) and pairs of two pinned
-//! particles. Every iteration then projects the candidates in order, Gauss-Seidel: a pair closer
-//! than `d` is pushed apart along its axis `n` by `d − |x_i − x_j|`, shared by inverse mass, and
-//! its relative tangential motion since the substep's start is cut by at most `μ` times that
-//! depth (Coulomb, as at the ground). Many substeps keep each substep's motion well under the thickness, which
-//! is what lets particles alone stop a layer passing through another: a particle passing between
-//! the four particles of a square of side `s` comes within `s/√2` of them, so a thickness of at
-//! least `0.71 s` stops it.
+//! finds them anew: for each particle, every other closer than `r + 2m` with
+//! `r = QUERY × thickness`, in increasing order, at most [`CAPACITY`] (the lowest indices kept;
+//! the others counted as dropped). So every pair closer than `r` now was found, and a cloth
+//! that moves slowly keeps its candidates for many substeps. Left out: pairs whose rest distance
+//! is at most the thickness (neighbours in the mesh, which the cloth's own constraints keep; to
+//! a rounding of 0.1 %) and pairs of two pinned particles.
+//!
+//! Every iteration then projects the candidates Jacobi-style, each particle against the same
+//! iterate: a pair closer than `d` along its axis `n` gives particle `i` the share
+//! `w_i / (w_i + w_j)` of the push `(d − |x_i − x_j|) n` apart, and the same share of the cut
+//! of their relative tangential motion since the substep's start, at most `μ` times the depth
+//! (Coulomb, as at the ground). A pair whose axis has turned by more than a right angle since
+//! the substep's start, `(x_i − x_j)·(x⁰_i − x⁰_j) < 0`, has passed through itself along it: it
+//! is pushed back along its start axis `n⁰` to the thickness, depth `d − (x_i − x_j)·n⁰`. Each
+//! particle moves by the sum of its shares divided by `max(k / ω, 1)`, `k` its pairs in
+//! contact and `ω` = [`OVER_RELAXATION`]. Both particles of a pair take their own share, so a
+//! lone pair is pushed to the thickness in one pass. Many substeps keep each substep's motion well under the thickness, which is what lets
+//! particles alone stop a layer passing through another: a particle passing between the four
+//! particles of a square of side `s` comes within `s/√2` of them, so a thickness of at least
+//! `0.71 s` stops it.
 
 use crate::math::prelude::*;
 use crate::scene::SelfCollision;
@@ -25,56 +35,125 @@ use crate::scene::SelfCollision;
 pub const QUERY: f32 = 1.25;
 /// How far a particle may move before the pairs are found anew, as a multiple of the thickness.
 pub const MARGIN: f32 = 0.25;
+/// Candidates kept per particle. Particles kept a thickness apart within a reach of 1.75
+/// thicknesses number about 22 for layers of cloth (their own and one on each side), so a
+/// particle that finds more than this is in a pile denser than self-collision allows.
+pub const CAPACITY: usize = 64;
+
+/// The over-relaxation `ω` of the pass's averaging: a particle with `k` pairs in contact moves
+/// by the sum of their shares divided by `max(k / ω, 1)` (Macklin et al. 2014, §4.2), never more
+/// than the sum.
+pub const OVER_RELAXATION: f32 = 2.0;
 
 /// Relative tolerance on "rest distance at most the thickness" (dimensionless).
 const REST_TOLERANCE: f32 = 1e-3;
 
-/// A candidate pair (particle indices, `i < j`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Pair {
-    i: u32,
-    j: u32,
+/// Buckets of the hash for `n` particles: a power of two, at least twice `n` and at least 64
+/// (the GPU's prefix sum splits the table into 64 equal runs).
+pub fn table_size(n: usize) -> usize {
+    (2 * n).next_power_of_two().max(64)
 }
 
-/// The candidate pairs of the current substep and the hash's scratch.
+/// The candidates' reach when found (m): `r + 2m`.
+pub fn reach(sc: &SelfCollision) -> f32 {
+    QUERY * sc.thickness + 2.0 * MARGIN * sc.thickness
+}
+
+/// The distance below which two particles' rest positions make them mesh neighbours (m).
+pub fn neighbour_distance(sc: &SelfCollision) -> f32 {
+    sc.thickness * (1.0 + REST_TOLERANCE)
+}
+
+/// The bucket of cell `c` in a table of `size` buckets (a power of two).
+pub fn bucket(c: [i32; 3], size: usize) -> usize {
+    let h = (c[0].wrapping_mul(92837111)) ^ (c[1].wrapping_mul(689287499)) ^ (c[2].wrapping_mul(283923481));
+    (h as u32 as usize) & (size - 1)
+}
+
+/// The hash cell of position `p` for cells of side `1 / inv_r` (m).
+pub fn cell(p: glam::Vec3, inv_r: f32) -> [i32; 3] {
+    let q = p * inv_r;
+    [q.x.floor() as i32, q.y.floor() as i32, q.z.floor() as i32]
+}
+
+/// Inserts `j` into the increasing `list` of `*count` entries (at most [`CAPACITY`]), keeping
+/// the lowest indices; returns `true` when an index was dropped.
+pub fn insert(list: &mut [u32], count: &mut u32, j: u32) -> bool {
+    let c = *count as usize;
+    let full = c == CAPACITY;
+    if full && j >= list[CAPACITY - 1] {
+        return true;
+    }
+    let mut k = if full { CAPACITY - 1 } else { c };
+    while k > 0 && list[k - 1] > j {
+        list[k] = list[k - 1];
+        k -= 1;
+    }
+    list[k] = j;
+    if !full {
+        *count += 1;
+    }
+    full
+}
+
+/// Each particle's candidates this substep, and the hash's scratch.
 #[derive(Clone, Debug, Default)]
 pub struct SelfPairs {
-    pairs: Vec<Pair>,
+    /// Particle `i`'s candidates at `lists[i * CAPACITY..][..counts[i]]`, increasing.
+    lists: Vec<u32>,
+    counts: Vec<u32>,
     /// First entry of each hash bucket in `sorted` (one past the table: the end).
     start: Vec<u32>,
     /// Particle indices ordered by bucket.
     sorted: Vec<u32>,
     cells: Vec<[i32; 3]>,
-    /// The positions the pairs were found at (m).
+    /// The positions the candidates were found at (m).
     at: Vec<glam::Vec3>,
-    /// Times the pairs were found.
+    /// Times the candidates have been found.
     builds: u64,
-}
-
-/// The bucket of cell `c` in a table of `size` buckets (a power of two).
-fn bucket(c: [i32; 3], size: usize) -> usize {
-    let h = (c[0].wrapping_mul(92837111)) ^ (c[1].wrapping_mul(689287499)) ^ (c[2].wrapping_mul(283923481));
-    (h as u32 as usize) & (size - 1)
+    /// Candidates dropped beyond [`CAPACITY`] at the last finding.
+    dropped: u64,
+    /// Each particle's pairs in contact in the last pass.
+    touching: Vec<u32>,
+    /// Whether each particle moved at least half the thickness in the substep so far.
+    fast: Vec<bool>,
 }
 
 impl SelfPairs {
-    /// Number of candidate pairs this substep.
+    /// Number of candidate pairs (each counted once).
     pub fn len(&self) -> usize {
-        self.pairs.len()
+        self.counts.iter().map(|&c| c as usize).sum::<usize>() / 2
     }
 
     /// `true` when there are no candidates.
     pub fn is_empty(&self) -> bool {
-        self.pairs.is_empty()
+        self.counts.iter().all(|&c| c == 0)
     }
 
-    /// Times the pairs have been found (the broad phase's runs).
+    /// Times the candidates have been found (the broad phase's runs).
     pub fn builds(&self) -> u64 {
         self.builds
     }
 
-    /// Makes the pairs valid at positions `x`: found anew where some particle has moved more
-    /// than the margin since they were found, not counting the mean displacement (a common
+    /// Candidates dropped at the last finding because a particle had more than [`CAPACITY`].
+    pub fn dropped(&self) -> u64 {
+        self.dropped
+    }
+
+    /// Particle `i`'s candidates, in increasing order.
+    pub fn of(&self, i: usize) -> &[u32] {
+        &self.lists[i * CAPACITY..][..self.counts[i] as usize]
+    }
+
+    /// The candidate pairs `(i, j)`, `i < j`, in increasing order.
+    pub fn pairs(&self) -> Vec<(u32, u32)> {
+        (0..self.counts.len())
+            .flat_map(|i| self.of(i).iter().filter(move |&&j| j as usize > i).map(move |&j| (i as u32, j)))
+            .collect()
+    }
+
+    /// Makes the candidates valid at positions `x`: found anew where some particle has moved
+    /// more than the margin since they were found, not counting the mean displacement (a common
     /// translation moves no pair closer).
     pub fn update<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision) {
         let m = MARGIN * sc.thickness;
@@ -84,23 +163,22 @@ impl SelfPairs {
             x.iter().zip(&self.at).any(|(p, q)| (p.to_vec3() - *q - shift).length_squared() > m * m)
         };
         if stale {
-            self.find(x, w, sc, QUERY * sc.thickness + 2.0 * m);
+            self.find(x, w, sc);
             self.at.clear();
             self.at.extend(x.iter().map(|p| p.to_vec3()));
             self.builds += 1;
         }
     }
 
-    /// The candidate pairs at positions `x` (the broad phase): those closer than `r` (m), each
-    /// once, `i < j`, in increasing order of `i`.
-    fn find<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision, r: f32) {
+    /// The candidates at positions `x` (the broad phase): for each particle, every other closer
+    /// than [`reach`] that is no mesh neighbour, not both pinned.
+    fn find<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision) {
         let n = x.len();
-        let size = (2 * n.max(1)).next_power_of_two();
+        let size = table_size(n);
+        let r = reach(sc);
+        let inv_r = 1.0 / r;
         self.cells.clear();
-        self.cells.extend(x.iter().map(|p| {
-            let p = p.to_vec3() / r;
-            [p.x.floor() as i32, p.y.floor() as i32, p.z.floor() as i32]
-        }));
+        self.cells.extend(x.iter().map(|p| cell(p.to_vec3(), inv_r)));
         // Counting sort by bucket.
         self.start.clear();
         self.start.resize(size + 1, 0);
@@ -118,11 +196,14 @@ impl SelfPairs {
             self.sorted[fill[b] as usize] = i as u32;
             fill[b] += 1;
         }
-        self.pairs.clear();
+        self.lists.resize(n * CAPACITY, 0);
+        self.counts.clear();
+        self.counts.resize(n, 0);
+        self.dropped = 0;
         let (r2, zero) = (r * r, V::S::zero());
-        // Rest distances up to the thickness, to rounding (a grid's neighbours at the default
-        // thickness, its spacing, sit exactly there).
-        let neighbour = sc.thickness * (1.0 + REST_TOLERANCE);
+        let neighbour = neighbour_distance(sc);
+        // Each pair once, from its lower index, into both lists: each list ends with the same
+        // lowest indices in increasing order whatever the order they come in.
         for i in 0..n {
             let c = self.cells[i];
             let xi = x[i].to_vec3();
@@ -131,19 +212,23 @@ impl SelfPairs {
                     for dx in -1..=1 {
                         let cell = [c[0] + dx, c[1] + dy, c[2] + dz];
                         let b = bucket(cell, size);
-                        for &j in &self.sorted[self.start[b] as usize..self.start[b + 1] as usize] {
-                            let j = j as usize;
-                            // Each pair once: from its lower index, and only in the cell the
-                            // other particle is in (a bucket holds other cells' particles too).
-                            if j <= i
-                                || self.cells[j] != cell
-                                || (w[i] == zero && w[j] == zero)
-                                || xi.distance_squared(x[j].to_vec3()) >= r2
+                        // A bucket lists its particles in increasing order: those above `i`.
+                        let bucket = &self.sorted[self.start[b] as usize..self.start[b + 1] as usize];
+                        let above = bucket.partition_point(|&j| j as usize <= i);
+                        for &j in &bucket[above..] {
+                            let ju = j as usize;
+                            // Only in the cell the other particle is in (a bucket holds other
+                            // cells' particles too).
+                            if (xi - x[ju].to_vec3()).length_squared() >= r2
+                                || self.cells[ju] != cell
+                                || (w[i] == zero && w[ju] == zero)
+                                || (sc.rest[i] - sc.rest[ju]).length() <= neighbour
                             {
                                 continue;
                             }
-                            if sc.rest[i].distance(sc.rest[j]) > neighbour {
-                                self.pairs.push(Pair { i: i as u32, j: j as u32 });
+                            for (a, b) in [(i, j), (ju, i as u32)] {
+                                let list = &mut self.lists[a * CAPACITY..][..CAPACITY];
+                                self.dropped += insert(list, &mut self.counts[a], b) as u64;
                             }
                         }
                     }
@@ -152,32 +237,75 @@ impl SelfPairs {
         }
     }
 
-    /// One Gauss-Seidel pass over the candidates at positions `x` (substep start `x_prev`,
-    /// inverse masses `w`) for `sc`'s thickness and friction.
-    pub fn project<V: Vector>(&self, x: &mut [V], x_prev: &[V], w: &[V::S], sc: &SelfCollision) {
+    /// One Jacobi pass over the candidates at positions `x` (substep start `x_prev`, inverse
+    /// masses `w`) for `sc`'s thickness and friction; `dx` is scratch. Each pair is visited once,
+    /// from its lower index, and gives both particles their shares: each particle's sum then
+    /// adds its pairs in increasing order of the other index, as the GPU's gather does, and each
+    /// share is the same expression as there (negating a vector is exact).
+    pub fn project<V: Vector>(&mut self, x: &mut [V], x_prev: &[V], w: &[V::S], sc: &SelfCollision, dx: &mut Vec<V>) {
+        let (zero, one) = (V::S::zero(), V::S::one());
         let mu = <V::S as From<f32>>::from(sc.friction);
         let keep = <V::S as From<f32>>::from(sc.thickness);
-        for p in &self.pairs {
-            let (i, j) = (p.i as usize, p.j as usize);
-            let d = x[i] - x[j];
-            let dist = d.length();
-            if dist >= keep || dist <= V::S::zero() {
-                continue;
+        let keep2 = keep * keep;
+        let n = self.counts.len().min(x.len());
+        dx.clear();
+        dx.resize(x.len(), V::ZERO);
+        self.touching.clear();
+        self.touching.resize(x.len(), 0);
+        // A pair apart by the thickness or more has passed through itself only if the two moved
+        // apart from each other by more than that (`|u_i − u_j| > |x_i − x_j|` when
+        // `(x_i − x_j)·(x⁰_i − x⁰_j) < 0`): never while both moved less than half of it this
+        // substep, and then its start positions need no look.
+        let half2 = keep2 * <V::S as From<f32>>::from(0.25);
+        self.fast.clear();
+        self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
+        for i in 0..n {
+            for &j in &self.lists[i * CAPACITY..][..self.counts[i] as usize] {
+                let j = j as usize;
+                if j <= i {
+                    continue;
+                }
+                let d = x[i] - x[j];
+                let dd = d.dot(d);
+                if dd >= keep2 && !self.fast[i] && !self.fast[j] {
+                    continue;
+                }
+                let d0 = x_prev[i] - x_prev[j];
+                let (n, depth) = if d.dot(d0) < zero {
+                    // Passed through each other along their axis: back along the start axis.
+                    let n0 = d0 * (one / d0.length());
+                    (n0, keep - d.dot(n0))
+                } else {
+                    if dd >= keep2 || dd <= zero {
+                        continue;
+                    }
+                    let dist = dd.sqrt();
+                    (d * (one / dist), keep - dist)
+                };
+                // Coulomb friction on the relative motion since the substep's start.
+                let rel = (x[i] - x_prev[i]) - (x[j] - x_prev[j]);
+                let t = rel - n * rel.dot(n);
+                let tl = t.length();
+                let ws = w[i] + w[j];
+                for (a, sign) in [(i, one), (j, -one)] {
+                    if w[a] == zero {
+                        continue;
+                    }
+                    let share = w[a] / ws;
+                    let mut c = n * (depth * share);
+                    if tl > zero {
+                        c -= t * ((mu * depth).min(tl) / tl * share);
+                    }
+                    dx[a] += c * sign;
+                    self.touching[a] += 1;
+                }
             }
-            let ws = w[i] + w[j];
-            let n = d * (V::S::one() / dist);
-            let depth = keep - dist;
-            let (ai, aj) = (w[i] / ws, w[j] / ws);
-            x[i] += n * (depth * ai);
-            x[j] -= n * (depth * aj);
-            // Coulomb friction on the relative motion since the substep's start.
-            let rel = (x[i] - x_prev[i]) - (x[j] - x_prev[j]);
-            let t = rel - n * rel.dot(n);
-            let tl = t.length();
-            if tl > V::S::zero() {
-                let cut = t * ((mu * depth).min(tl) / tl);
-                x[i] -= cut * ai;
-                x[j] += cut * aj;
+        }
+        let rho = <V::S as From<f32>>::from(1.0 / OVER_RELAXATION);
+        for ((p, d), &k) in x.iter_mut().zip(dx.iter()).zip(&self.touching) {
+            if k > 0 {
+                let spread = (<V::S as From<f32>>::from(k as f32) * rho).max(one);
+                *p += *d * (one / spread);
             }
         }
     }
@@ -216,11 +344,29 @@ mod tests {
                 }
             }
         }
-        let mut found: Vec<(u32, u32)> = pairs.pairs.iter().map(|p| (p.i, p.j)).collect();
-        found.sort_unstable();
+        let found = pairs.pairs();
         assert_eq!(found, brute);
+        assert_eq!(pairs.dropped(), 0);
+        for i in 0..x.len() {
+            assert!(pairs.of(i).windows(2).all(|p| p[0] < p[1]), "increasing");
+            assert!(pairs.of(i).iter().all(|&j| pairs.of(j as usize).contains(&(i as u32))), "both ways");
+        }
         assert!(found.iter().any(|&(i, j)| i < n * n && j >= n * n), "pairs across the layers");
         assert!(found.iter().all(|&(i, j)| sc.rest[i as usize].distance(sc.rest[j as usize]) > s), "no mesh neighbour");
+    }
+
+    #[test]
+    fn a_full_list_keeps_the_lowest_indices_in_order() {
+        let (mut list, mut count) = ([0u32; CAPACITY], 0u32);
+        let mut dropped = 0;
+        for j in (0..CAPACITY as u32 + 10).rev() {
+            dropped += insert(&mut list, &mut count, 2 * j) as u32;
+        }
+        assert_eq!(count as usize, CAPACITY);
+        assert_eq!(dropped, 10);
+        assert!(list.iter().enumerate().all(|(k, &j)| j == 2 * k as u32), "{list:?}");
+        assert!(insert(&mut list, &mut count, 1000), "beyond the kept ones: dropped");
+        assert!(insert(&mut list, &mut count, 1) && list[1] == 1 && list[CAPACITY - 1] == 2 * (CAPACITY as u32 - 2));
     }
 
     #[test]
@@ -232,7 +378,7 @@ mod tests {
         let mut pairs = SelfPairs::default();
         pairs.update(&x, &w, &sc);
         assert_eq!(pairs.len(), 1);
-        pairs.project(&mut x, &prev, &w, &sc);
+        pairs.project(&mut x, &prev, &w, &sc, &mut Vec::new());
         assert!((x[0].distance(x[1]) - 0.1).abs() < 1e-6);
         // The lighter particle (w = 3) moves three times as far.
         assert!((x[0].x + 0.015).abs() < 1e-6 && (x[1].x - 0.085).abs() < 1e-6, "{x:?}");

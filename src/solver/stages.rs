@@ -44,7 +44,7 @@ pub enum Stage {
     /// each particle adds up its own.
     Jacobi,
     /// The self-collision's candidate pairs at the predicted positions
-    /// ([`crate::scene::SelfCollision`]; CPU only so far).
+    /// ([`crate::scene::SelfCollision`]).
     SelfPairs,
     /// The self-collision's projection of its candidate pairs (every iteration, after the
     /// sweeps).

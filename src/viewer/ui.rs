@@ -128,8 +128,8 @@ fn scene_controls(ui: &mut Ui, state: &mut ViewerState) {
             ui.radio_value(&mut c.diagonals, Diagonals::Alternating, "alternating");
         });
         let mut on = c.self_collides();
-        let hint = "Particles kept a thickness (the grid's spacing) apart inside the iteration loop, so the cloth \
-                    cannot pass through itself. CPU backend only so far.";
+        let hint = "Particles kept a thickness (1.2 × the grid's spacing) apart inside the iteration loop, so \
+                    the cloth cannot pass through itself.";
         if ui.checkbox(&mut on, "Self-collision").on_hover_text(hint).changed() {
             c.self_collision = Some(on);
         }

@@ -97,9 +97,8 @@ impl GpuSolver {
                     pass.dispatch_workgroups(particle_groups, 1, 1);
                 }
             }
-            // Nothing to do: `GpuSolver::new` refuses a scene with self-collision (as the CPU
-            // does nothing for these stages on a scene without it).
-            Stage::SelfPairs | Stage::SelfCollision => {}
+            Stage::SelfPairs => self.encode_self_pairs(pass),
+            Stage::SelfCollision => self.encode_self_collision(pass),
             Stage::Contacts => {
                 pass.set_pipeline(&k.contacts);
                 pass.dispatch_workgroups(particle_groups, 1, 1);
@@ -130,6 +129,8 @@ impl GpuSolver {
                 f.is_some_and(|f| f.sweeps[color].run != Run::Inside) as u64
             }
             Stage::Predict | Stage::LocalSnapshot | Stage::Contacts | Stage::Finish => 1,
+            Stage::SelfPairs if self.self_collision.is_some() => 6,
+            Stage::SelfCollision if self.self_collision.is_some() => 2,
             Stage::SelfPairs | Stage::SelfCollision => 0,
             Stage::Clear => present,
             Stage::LocalBegin => 1 + present,
@@ -188,6 +189,7 @@ impl GpuSolver {
         self.queue.write_buffer(&self.x_prev, 0, bytemuck::cast_slice(&with_w(x_prev)));
         let v4: Vec<Vec4> = v.iter().zip(&work).map(|(v, old)| v.extend(old.w)).collect();
         self.queue.write_buffer(&self.v, 0, bytemuck::cast_slice(&v4));
+        self.invalidate_self_pairs();
         for f in &self.families {
             let l = lambdas[f.kind as usize];
             if l.len() != f.len as usize {

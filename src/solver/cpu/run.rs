@@ -58,7 +58,7 @@ impl<V: Vector> CpuSolver<V> {
                 Stage::SelfCollision => {
                     if let Some(sc) = &self.scene.self_collision {
                         let p = &mut self.particles;
-                        self.self_pairs.project(&mut p.x, &p.x_prev, &p.w, sc);
+                        self.self_pairs.project(&mut p.x, &p.x_prev, &p.w, sc, &mut self.dx);
                     }
                 }
                 Stage::Contacts => {
