@@ -238,15 +238,13 @@ impl SelfPairs {
     }
 
     /// One Jacobi pass over the candidates at positions `x` (substep start `x_prev`, inverse
-    /// masses `w`) for `sc`'s thickness and friction; `dx` is scratch. Each pair is visited once,
-    /// from its lower index, and gives both particles their shares: each particle's sum then
-    /// adds its pairs in increasing order of the other index, as the GPU's gather does, and each
-    /// share is the same expression as there (negating a vector is exact).
+    /// masses `w`) for `sc`'s thickness and friction, on one thread; `dx` is scratch. Each pair
+    /// is visited once, from its lower index, and gives both particles their shares: each
+    /// particle's sum then adds its pairs in increasing order of the other index, as
+    /// [`SelfPairs::moves`] and the GPU's gather do, and each share is the same expression as
+    /// there (negating a vector is exact), so the three agree to the bit.
     pub fn project<V: Vector>(&mut self, x: &mut [V], x_prev: &[V], w: &[V::S], sc: &SelfCollision, dx: &mut Vec<V>) {
-        let (zero, one) = (V::S::zero(), V::S::one());
-        let mu = <V::S as From<f32>>::from(sc.friction);
-        let keep = <V::S as From<f32>>::from(sc.thickness);
-        let keep2 = keep * keep;
+        let pass = Pass::new(sc);
         let n = self.counts.len().min(x.len());
         dx.clear();
         dx.resize(x.len(), V::ZERO);
@@ -256,9 +254,10 @@ impl SelfPairs {
         // apart from each other by more than that (`|u_i − u_j| > |x_i − x_j|` when
         // `(x_i − x_j)·(x⁰_i − x⁰_j) < 0`): never while both moved less than half of it this
         // substep, and then its start positions need no look.
-        let half2 = keep2 * <V::S as From<f32>>::from(0.25);
+        let half2 = pass.keep2 * <V::S as From<f32>>::from(0.25);
         self.fast.clear();
         self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
+        let one = V::S::one();
         for i in 0..n {
             for &j in &self.lists[i * CAPACITY..][..self.counts[i] as usize] {
                 let j = j as usize;
@@ -266,48 +265,125 @@ impl SelfPairs {
                     continue;
                 }
                 let d = x[i] - x[j];
-                let dd = d.dot(d);
-                if dd >= keep2 && !self.fast[i] && !self.fast[j] {
+                if d.dot(d) >= pass.keep2 && !self.fast[i] && !self.fast[j] {
                     continue;
                 }
-                let d0 = x_prev[i] - x_prev[j];
-                let (n, depth) = if d.dot(d0) < zero {
-                    // Passed through each other along their axis: back along the start axis.
-                    let n0 = d0 * (one / d0.length());
-                    (n0, keep - d.dot(n0))
-                } else {
-                    if dd >= keep2 || dd <= zero {
-                        continue;
-                    }
-                    let dist = dd.sqrt();
-                    (d * (one / dist), keep - dist)
+                let Some(c) = pass.contact(d, x_prev[i] - x_prev[j], (x[i] - x_prev[i]) - (x[j] - x_prev[j])) else {
+                    continue;
                 };
-                // Coulomb friction on the relative motion since the substep's start.
-                let rel = (x[i] - x_prev[i]) - (x[j] - x_prev[j]);
-                let t = rel - n * rel.dot(n);
-                let tl = t.length();
-                let ws = w[i] + w[j];
-                for (a, sign) in [(i, one), (j, -one)] {
-                    if w[a] == zero {
-                        continue;
+                for (a, b, sign) in [(i, j, one), (j, i, -one)] {
+                    if let Some(m) = c.share(w[a], w[b]) {
+                        dx[a] += m * sign;
+                        self.touching[a] += 1;
                     }
-                    let share = w[a] / ws;
-                    let mut c = n * (depth * share);
-                    if tl > zero {
-                        c -= t * ((mu * depth).min(tl) / tl * share);
-                    }
-                    dx[a] += c * sign;
-                    self.touching[a] += 1;
                 }
             }
         }
-        let rho = <V::S as From<f32>>::from(1.0 / OVER_RELAXATION);
         for ((p, d), &k) in x.iter_mut().zip(dx.iter()).zip(&self.touching) {
-            if k > 0 {
-                let spread = (<V::S as From<f32>>::from(k as f32) * rho).max(one);
-                *p += *d * (one / spread);
-            }
+            *p += pass.spread(*d, k);
         }
+    }
+
+    /// The moves of particles `range` in one Jacobi pass at positions `x` (substep start
+    /// `x_prev`, inverse masses `w`) into `out` (one per particle of `range`): each particle
+    /// gathers its pairs' shares in increasing order of the other index, as the GPU's
+    /// `self_project` does; the same moves as [`SelfPairs::project`] makes, range by range (for
+    /// the threads of a team).
+    pub fn moves<V: Vector>(
+        &self,
+        range: std::ops::Range<usize>,
+        (x, x_prev, w): (&[V], &[V], &[V::S]),
+        sc: &SelfCollision,
+        out: &mut [V],
+    ) {
+        let pass = Pass::new(sc);
+        for (i, o) in range.zip(out.iter_mut()) {
+            let (mut sum, mut k) = (V::ZERO, 0);
+            if i < self.counts.len() && w[i] != V::S::zero() {
+                for &j in self.of(i) {
+                    let j = j as usize;
+                    let moved = (x[i] - x_prev[i]) - (x[j] - x_prev[j]);
+                    if let Some(m) =
+                        pass.contact(x[i] - x[j], x_prev[i] - x_prev[j], moved).and_then(|c| c.share(w[i], w[j]))
+                    {
+                        sum += m;
+                        k += 1;
+                    }
+                }
+            }
+            *o = pass.spread(sum, k);
+        }
+    }
+}
+
+/// The constants of one pass.
+struct Pass<S> {
+    keep: S,
+    keep2: S,
+    mu: S,
+}
+
+/// A pair in contact: its axis `n` (from the other particle towards this one), depth and
+/// relative tangential displacement since the substep's start `t`, `|t|`.
+struct Contact<V: Vector> {
+    n: V,
+    depth: V::S,
+    t: V,
+    tl: V::S,
+    mu: V::S,
+}
+
+impl<S: Real> Pass<S> {
+    fn new(sc: &SelfCollision) -> Self {
+        let keep = <S as From<f32>>::from(sc.thickness);
+        Pass { keep, keep2: keep * keep, mu: <S as From<f32>>::from(sc.friction) }
+    }
+
+    /// The contact of a pair `d = x_i − x_j` apart, `d0` at the substep's start, with relative
+    /// displacement `moved` since then; `None` when apart. Passed through each other along
+    /// their axis (`d·d0 < 0`): back along the start axis to the thickness.
+    fn contact<V: Vector<S = S>>(&self, d: V, d0: V, moved: V) -> Option<Contact<V>> {
+        let (zero, one) = (S::zero(), S::one());
+        let (n, depth) = if d.dot(d0) < zero {
+            let n0 = d0 * (one / d0.length());
+            (n0, self.keep - d.dot(n0))
+        } else {
+            let dd = d.dot(d);
+            if dd >= self.keep2 || dd <= zero {
+                return None;
+            }
+            let dist = dd.sqrt();
+            (d * (one / dist), self.keep - dist)
+        };
+        // Coulomb friction on the relative motion since the substep's start.
+        let t = moved - n * moved.dot(n);
+        Some(Contact { n, depth, tl: t.length(), t, mu: self.mu })
+    }
+
+    /// A particle's move from the sum `sum` of its `k` pairs' shares: `sum / max(k / ω, 1)`.
+    fn spread<V: Vector<S = S>>(&self, sum: V, k: u32) -> V {
+        if k == 0 {
+            return V::ZERO;
+        }
+        let rho = <S as From<f32>>::from(1.0 / OVER_RELAXATION);
+        sum * (S::one() / (<S as From<f32>>::from(k as f32) * rho).max(S::one()))
+    }
+}
+
+impl<V: Vector> Contact<V> {
+    /// The share of the particle of inverse mass `wa` (the other's `wb`): `n d wa/(wa + wb)` less
+    /// the same share of the friction's cut `min(μ d, |t|)` along `t`; `None` when pinned.
+    fn share(&self, wa: V::S, wb: V::S) -> Option<V> {
+        let zero = V::S::zero();
+        if wa == zero {
+            return None;
+        }
+        let share = wa / (wa + wb);
+        let mut c = self.n * (self.depth * share);
+        if self.tl > zero {
+            c -= self.t * ((self.mu * self.depth).min(self.tl) / self.tl * share);
+        }
+        Some(c)
     }
 }
 
@@ -353,6 +429,45 @@ mod tests {
         }
         assert!(found.iter().any(|&(i, j)| i < n * n && j >= n * n), "pairs across the layers");
         assert!(found.iter().all(|&(i, j)| sc.rest[i as usize].distance(sc.rest[j as usize]) > s), "no mesh neighbour");
+    }
+
+    #[test]
+    fn the_gather_by_ranges_moves_every_particle_as_the_pass_does() {
+        let (n, s) = (6u32, 0.1f32);
+        let layer = (n * n) as usize;
+        let rest = [sheet(n, s, 0.0), sheet(n, s, 1.0)].concat();
+        let sc = SelfCollision { thickness: s, friction: 0.3, rest };
+        // The upper layer 0.06 m above the lower, shifted, coming down from 0.2 m; three of its
+        // particles started below the lower layer; one particle pinned, one heavier.
+        let upper = |y: f32| sheet(n, s, y).into_iter().map(|p| p + Vec3::new(0.03, 0.0, 0.02));
+        let x: Vec<Vec3A> = sheet(n, s, 0.0).into_iter().chain(upper(0.06)).map(Vec3A::from).collect();
+        let mut x_prev: Vec<Vec3A> = sheet(n, s, 0.0).into_iter().chain(upper(0.2)).map(Vec3A::from).collect();
+        for k in [7, 8, 14] {
+            x_prev[layer + k].y = -0.05;
+        }
+        let mut w = vec![1.0f32; x.len()];
+        (w[0], w[layer + 1]) = (0.0, 0.5);
+        let mut pairs = SelfPairs::default();
+        pairs.update(&x, &w, &sc);
+        let mut moved = vec![Vec3A::ZERO; x.len()];
+        let (low, high) = moved.split_at_mut(7);
+        pairs.moves(0..7, (&x, &x_prev, &w), &sc, low);
+        pairs.moves(7..x.len(), (&x, &x_prev, &w), &sc, high);
+        let mut y = x.clone();
+        pairs.project(&mut y, &x_prev, &w, &sc, &mut Vec::new());
+        for i in 0..x.len() {
+            assert_eq!(
+                (x[i] + moved[i]).to_array().map(f32::to_bits),
+                y[i].to_array().map(f32::to_bits),
+                "particle {i}"
+            );
+        }
+        assert_eq!(moved[0], Vec3A::ZERO, "pinned");
+        assert!(moved.iter().filter(|m| m.length() > 1e-3).count() > 2 * layer - 4, "every free particle pushed");
+        // The three came up through the lower layer within the substep: sent back down to their
+        // side; the others are pushed up.
+        assert!([7, 8, 14].iter().all(|&k| moved[layer + k].y < 0.0), "{:?}", &moved[layer..]);
+        assert!([20, 21, 27].iter().all(|&k| moved[layer + k].y > 0.0), "{:?}", &moved[layer..]);
     }
 
     #[test]

@@ -10,7 +10,9 @@
 //! and at its end. The global balance (which scales every velocity between the finish pass and
 //! the next prediction), the local mode (whose snapshots and start energies read every particle)
 //! and Jacobi (whose sums read every element's corrections) meet at spin barriers around those
-//! passes. The elements of a group share no particle, the passes touch each particle alone, and
+//! passes, as does the self-collision: thread 0 checks and finds the candidates while the others
+//! wait, then each thread gathers its particles' moves against the same iterate
+//! ([`crate::solver::self_collision::SelfPairs::moves`]) and adds them. The elements of a group share no particle, the passes touch each particle alone, and
 //! two elements that share a particle are visited in the order of their groups, so the positions
 //! come out the same, bit for bit, for any thread count. Each thread times its waits, and the
 //! solver sums each thread's time working and waiting over the team's frames
@@ -18,6 +20,7 @@
 
 use std::cell::Cell;
 use std::ops::Range;
+use std::sync::{PoisonError, RwLock};
 use std::time::{Duration, Instant};
 
 use crate::math::prelude::*;
@@ -41,12 +44,8 @@ use super::{
 use crate::constraints::{Element, LaneData};
 
 /// `true` when some family the threads may split (its groups checked disjoint in `fam`) has a
-/// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster. A
-/// scene with self-collision runs on one thread (its pairs are projected in order).
+/// group of at least [`PARALLEL_MIN_GROUP`] elements; else one thread does it all, faster.
 pub(super) fn splittable<S>(scene: &Scene, fam: &[FamilyState<S>; FAMILY_COUNT]) -> bool {
-    if scene.self_collision.is_some() {
-        return false;
-    }
     let mut large = false;
     crate::for_each_family!(scene, |i, f| {
         large |= fam[i].disjoint && f.colors.iter().any(|r| r.len() >= PARALLEL_MIN_GROUP)
@@ -66,6 +65,8 @@ struct Views<'a, V: Vector> {
     /// The local mode's snapshots (current, previous) and start energies per family.
     local: Option<[SharedPositions<'a, V>; 2]>,
     energy_start: [SharedPositions<'a, V::S>; FAMILY_COUNT],
+    /// The self-collision pass's moves, one per particle.
+    dx: SharedPositions<'a, V>,
     /// Jacobi's per-constraint scales and its corrections, one per slot ([`jacobi::Slots`]).
     jacobi_scale: [&'a [V::S]; FAMILY_COUNT],
     corr: SharedPositions<'a, V>,
@@ -138,6 +139,10 @@ impl<V: Vector> CpuSolver<V> {
         let w = &p.w[..];
         let bound = self.fam.each_ref().map(|st| st.bound);
         let snapshots = self.local.as_mut().filter(|_| local).map(|l| [&mut l.current, &mut l.previous]);
+        // The self-collision's candidates: thread 0 writes them between barriers, every thread
+        // reads them in the pass.
+        let self_pairs = RwLock::new(&mut self.self_pairs);
+        self.dx.resize(n, V::ZERO);
         // SAFETY: the views are used only by the threads of the broadcast below, as the module
         // documentation of `shared` requires: each thread writes the particles of its share of a
         // per-particle pass (`particle_share`, `Plan::finish`, `Plan::contacts`: disjoint ranges)
@@ -147,7 +152,8 @@ impl<V: Vector> CpuSolver<V> {
         // touched waits for it (`Member::step`, the plan's boundary parts) or for a barrier
         // (`Member::meet`); slices cover only a thread's own range (`read_range`) or an array no
         // thread writes until the next barrier (`read_all`: snapshots, start energies, Jacobi's
-        // positions and corrections, the work rows once every thread has finished its passes).
+        // and the self-collision's positions, Jacobi's corrections, the work rows once every
+        // thread has finished its passes); the self-collision's moves are each thread's own range.
         let views = unsafe {
             let fam = self.fam.each_mut().map(|st| {
                 let (lambda, start) = (&mut st.lambda[..], &mut st.energy_start[..]);
@@ -163,6 +169,7 @@ impl<V: Vector> CpuSolver<V> {
                 energy_start: fam.map(|f| f.1),
                 jacobi_scale: fam.map(|f| f.2),
                 corr: SharedPositions::new(corr),
+                dx: SharedPositions::new(&mut self.dx),
                 lanes: fam.map(|f| f.3),
                 bound,
             }
@@ -283,8 +290,29 @@ impl<V: Vector> CpuSolver<V> {
                             *x += d;
                         }
                     }
-                    // `splittable` keeps a scene with self-collision on one thread.
-                    Stage::SelfPairs | Stage::SelfCollision => unreachable!("self-collision runs on one thread"),
+                    Stage::SelfPairs => {
+                        let Some(sc) = &scene.self_collision else { continue };
+                        // Every thread's prediction is in before thread 0 reads every position.
+                        me.meet();
+                        if me.t == 0 {
+                            self_pairs.write().unwrap_or_else(PoisonError::into_inner).update(v.x.read_all(), w, sc);
+                        }
+                        me.meet();
+                    }
+                    Stage::SelfCollision => {
+                        let Some(sc) = &scene.self_collision else { continue };
+                        me.meet();
+                        let at = (v.x.read_all(), v.x_prev.read_all(), w);
+                        let pairs = self_pairs.read().unwrap_or_else(PoisonError::into_inner);
+                        pairs.moves(mine.clone(), at, sc, v.dx.range_mut(mine.clone()));
+                        drop(pairs);
+                        me.meet();
+                        for (x, d) in v.x.range_mut(mine.clone()).iter_mut().zip(v.dx.read_range(mine.clone())) {
+                            *x += *d;
+                        }
+                        // The next stage's steps may read the particles of another thread's share.
+                        me.meet();
+                    }
                     // Jacobi's: each thread its particles, then the team meets before the next
                     // iteration reads every position.
                     Stage::Contacts if jacobi => {
