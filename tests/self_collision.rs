@@ -196,8 +196,13 @@ fn self_collision_is_refused_by_solids_and_a_bad_thickness() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("--self-collision") && err.contains("cloth"), "{err}");
-    let err = scene::build("cloth", &SceneOptions { thickness: Some(-1.0), ..SceneOptions::default() })
-        .unwrap_err()
-        .to_string();
-    assert!(err.contains("--thickness"), "{err}");
+    for t in [-1.0, 0.05] {
+        // The default 41 × 41 cloth's spacing is 0.025 m: 0.05 m is two of them.
+        let err = scene::build("cloth", &SceneOptions { thickness: Some(t), ..SceneOptions::default() })
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("--thickness"), "{err}");
+    }
+    let fine = SceneOptions { thickness: Some(0.035), ..SceneOptions::default() };
+    assert_eq!(scene::build("cloth-drape", &fine).unwrap().self_collision.unwrap().thickness, 0.035);
 }

@@ -137,12 +137,12 @@ pub struct SceneArgs {
     /// ones in a checkerboard (alternating: the PositionBasedDynamics library's cloth mesh).
     #[arg(long, default_value = "uniform", value_parser = named::<Diagonals>)]
     pub diagonals: Diagonals,
-    /// Cloth scenes: self-collision on or off (default: on for cloth-drape, off for the
-    /// others).
+    /// Cloth scenes: self-collision on or off (default: on for cloth-drape and cloth-sphere,
+    /// off for the others).
     #[arg(long, value_parser = on_off)]
     pub self_collision: Option<bool>,
     /// Cloth scenes: the distance self-collision keeps between particles (m; default: 1.2
-    /// times the grid's spacing, 1.2 m / (resolution − 1)).
+    /// times the grid's spacing, 1.2 m / (resolution − 1); at most 1.5 times).
     #[arg(long, allow_negative_numbers = true)]
     pub thickness: Option<f32>,
     /// aniso-cloth: warp modulus E_u along x (N/m; default: --stiffness).

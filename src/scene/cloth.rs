@@ -36,6 +36,11 @@ const SELF_FRICTION: f32 = 0.3;
 /// substep from crossing (docs/algorithm.md §3.1), where `s` itself leaves a few crossing pairs.
 /// Mesh neighbours (rest distance `s`) stay left out; diagonals (`√2 s`) are clear at rest.
 const THICKNESS_PER_SPACING: f32 = 1.2;
+/// The largest thickness `--thickness` takes, as a multiple of the spacing: within the
+/// candidates' reach `1.75 t` a particle of a pile of three layers `t` apart then has about
+/// `π (2.6)² − 5 ≈ 17` others in its own layer and `π (2.15)² ≈ 15` in each next one, well
+/// within [`crate::solver::self_collision::CAPACITY`] (64).
+const MAX_THICKNESS_PER_SPACING: f32 = 1.5;
 
 /// In-plane stretch of `cloth-free` at the start.
 const FREE_STRETCH: f32 = 1.1;
@@ -47,6 +52,16 @@ const DEFAULT_BENDING: f32 = 1.0e-3;
 
 pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
     let n = o.resolution.unwrap_or(DEFAULT_RESOLUTION);
+    if let Some(t) = o.thickness
+        && t > MAX_THICKNESS_PER_SPACING * SIZE / (n - 1) as f32
+    {
+        return Err(Error::param(
+            "--thickness",
+            t,
+            "must be at most 1.5 times the grid's spacing, 1 m / (resolution − 1): in a pile of a \
+             thicker cloth a particle has more candidates within reach than self-collision keeps",
+        ));
+    }
     let height = match kind {
         Kind::Sphere => 0.9,
         _ => 1.2,

@@ -218,7 +218,8 @@ pub struct SceneOptions {
     pub lattice: Option<u32>,
     /// Cloth scenes: how the grid's quads are split into triangles.
     pub diagonals: Diagonals,
-    /// Cloth scenes: self-collision on or off (`None`: the scene's own, on for `cloth-drape`).
+    /// Cloth scenes: self-collision on or off (`None`: the scene's own, on for
+    /// `cloth-drape` and `cloth-sphere`).
     pub self_collision: Option<bool>,
     /// Cloth scenes: the self-collision's thickness (m; `None`: 1.2 × the grid's
     /// spacing).
@@ -289,9 +290,10 @@ pub fn uses_tets(name: &str, body: Option<Body>) -> bool {
     }
 }
 
-/// Whether scene `name`'s cloth collides with itself unless told otherwise (`cloth-drape`).
+/// Whether scene `name`'s cloth collides with itself unless told otherwise (`cloth-drape`, and
+/// `cloth-sphere`, whose cloth folds where it meets the ground).
 pub fn self_collides_by_default(name: &str) -> bool {
-    name == "cloth-drape"
+    matches!(name, "cloth-drape" | "cloth-sphere")
 }
 
 /// Whether scene `name` is a cloth grid (and so takes [`Diagonals`]).

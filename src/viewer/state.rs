@@ -124,7 +124,8 @@ pub struct SceneChoice {
     pub tets: TetMode,
     /// How cloth grids are split into triangles.
     pub diagonals: Diagonals,
-    /// Cloth self-collision on or off; `None` takes the scene's own (on for `cloth-drape`).
+    /// Cloth self-collision on or off; `None` takes the scene's own (on for `cloth-drape` and
+    /// `cloth-sphere`).
     pub self_collision: Option<bool>,
     /// Gravity on.
     pub gravity: bool,
