@@ -1,7 +1,8 @@
 // Cloth self-collision (mirrors src/solver/self_collision.rs step for step): the check of the
 // candidates, the spatial hash (clear, count, prefix sum, scatter), each particle's candidates,
 // and the Jacobi projection with its apply. The head defines CAPACITY, the candidates kept per
-// particle, and OVER_RELAXATION, the projection's ω. Keep the bindings in sync with src/gpu/kernels.rs (self_layout).
+// particle, and OVER_RELAXATION, the projection's ω. Keep the bindings in sync with
+// src/gpu/kernels.rs (self_layout) and SelfParams with src/gpu/solver/self_collision.rs.
 
 struct SelfParams {
     // Distance kept between particles (m).

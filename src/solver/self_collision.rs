@@ -22,10 +22,11 @@
 //! is pushed back along its start axis `n⁰` to the thickness, depth `d − (x_i − x_j)·n⁰`. Each
 //! particle moves by the sum of its shares divided by `max(k / ω, 1)`, `k` its pairs in
 //! contact and `ω` = [`OVER_RELAXATION`]. Both particles of a pair take their own share, so a
-//! lone pair is pushed to the thickness in one pass. Many substeps keep each substep's motion well under the thickness, which is what lets
-//! particles alone stop a layer passing through another: a particle passing between the four
-//! particles of a square of side `s` comes within `s/√2` of them, so a thickness of at least
-//! `0.71 s` stops it.
+//! lone pair is pushed to the thickness in one pass. Particles alone stop a layer passing
+//! through another while each substep's motion stays within a few thicknesses: a particle
+//! passing between the four particles of a square of side `s` comes within `s/√2` of them, so a
+//! thickness of at least `0.71 s` stops it, and one that passes a particle within a substep is
+//! sent back by the passed-through rule.
 
 use crate::math::prelude::*;
 use crate::scene::SelfCollision;

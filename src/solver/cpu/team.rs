@@ -1,22 +1,22 @@
 //! The frame on several threads: every thread of the solver's pool runs the frame's substeps, the
-//! stage list of [`crate::solver::stages`], as one team. Each takes its share of the particles in the per-particle passes and of each large
-//! color group in the sweeps, so one frame costs one wake-up of the pool instead of a fork and
-//! join per group. A thread waits for the others only before the part of its share that touches
-//! particles another thread touches too ([`Plan`]), so a thread that is ahead goes on with the
-//! rest of its share instead of waiting at every group. In Gauss-Seidel without the global
-//! balance or the local mode, the finish pass (which makes the next substep's prediction too) is
-//! such a step as well, each thread zeroes the multipliers of its own parts, and the substeps
-//! follow one another without a barrier: the team meets only after the frame's first prediction
-//! and at its end. The global balance (which scales every velocity between the finish pass and
-//! the next prediction), the local mode (whose snapshots and start energies read every particle)
-//! and Jacobi (whose sums read every element's corrections) meet at spin barriers around those
-//! passes, as does the self-collision: thread 0 checks and finds the candidates while the others
-//! wait, then each thread gathers its particles' moves against the same iterate
-//! ([`crate::solver::self_collision::SelfPairs::moves`]) and adds them. The elements of a group share no particle, the passes touch each particle alone, and
-//! two elements that share a particle are visited in the order of their groups, so the positions
-//! come out the same, bit for bit, for any thread count. Each thread times its waits, and the
-//! solver sums each thread's time working and waiting over the team's frames
-//! ([`super::TeamTime`]).
+//! stage list of [`crate::solver::stages`], as one team. Each takes its share of the particles in
+//! the per-particle passes and of each large color group in the sweeps, so one frame costs one
+//! wake-up of the pool instead of a fork and join per group. A thread waits for the others only
+//! before the part of its share that touches particles another thread touches too ([`Plan`]), so a
+//! thread that is ahead goes on with the rest of its share instead of waiting at every group. In
+//! Gauss-Seidel without the global balance or the local mode, the finish pass (which makes the next
+//! substep's prediction too) is such a step as well, each thread zeroes the multipliers of its own
+//! parts, and the substeps follow one another without a barrier: the team meets only after the
+//! frame's first prediction and at its end. The global balance (which scales every velocity between
+//! the finish pass and the next prediction), the local mode (whose snapshots and start energies
+//! read every particle) and Jacobi (whose sums read every element's corrections) meet at spin
+//! barriers around those passes, as does the self-collision: thread 0 checks and finds the
+//! candidates while the others wait, then each thread gathers its particles' moves against the same
+//! iterate ([`crate::solver::self_collision::SelfPairs::moves`]) and adds them. The elements of a
+//! group share no particle, the passes touch each particle alone, and two elements that share a
+//! particle are visited in the order of their groups, so the positions come out the same, bit for
+//! bit, for any thread count. Each thread times its waits, and the solver sums each thread's time
+//! working and waiting over the team's frames ([`super::TeamTime`]).
 
 use std::cell::Cell;
 use std::ops::Range;
