@@ -2,6 +2,8 @@
 //! GPU's own run (energy, both momenta, a body at rest) and its parity with the CPU's. These
 //! tests need a GPU adapter (Mesa lavapipe in CI) and fail without one.
 
+mod common;
+
 use std::sync::Arc;
 
 use eapbd::gpu::{GpuContext, GpuSolver, Kernels};
@@ -11,11 +13,6 @@ use eapbd::solver::projection::{momenta, momentum_scales};
 use eapbd::solver::{CpuSolver, EnergyAware, Settings};
 use glam::{Vec3, Vec3A};
 
-fn context() -> (GpuContext, Arc<Kernels>) {
-    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    let kernels = Arc::new(Kernels::new(&ctx.device));
-    (ctx, kernels)
-}
 
 fn settings(substeps: u32, iterations: u32, energy_aware: EnergyAware) -> Settings {
     Settings { substeps, iterations, energy_aware, threads: 1, ..Settings::default() }
@@ -38,7 +35,7 @@ fn measure(gpu: &GpuSolver, frame: u32) -> FrameStats {
 
 #[test]
 fn the_free_cloth_keeps_both_momenta_and_its_energy_on_the_gpu() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let opts = SceneOptions { resolution: Some(21), stiffness: 1e4, ..SceneOptions::default() };
     let sc = scene::build("cloth-free", &opts).unwrap();
     // Set the cloth drifting and spinning, so both momenta are far from zero.
@@ -71,7 +68,7 @@ fn the_free_cloth_keeps_both_momenta_and_its_energy_on_the_gpu() {
 
 #[test]
 fn the_hanging_cloth_keeps_its_energy_and_swing_on_the_gpu_as_on_the_cpu() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let s = settings(10, 3, EnergyAware::Project);
     let mut cpu = CpuSolver::<Vec3A>::new(hanging_cloth());
     let mut gpu = gpu_solver(&ctx, &kernels, hanging_cloth());
@@ -120,7 +117,7 @@ fn the_hanging_cloth_keeps_its_energy_and_swing_on_the_gpu_as_on_the_cpu() {
 
 #[test]
 fn a_cloth_at_rest_stays_at_rest_on_the_gpu() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let mut gpu = gpu_solver(&ctx, &kernels, hanging_cloth());
     let damped = Settings { damping: 5.0, ..settings(10, 3, EnergyAware::Off) };
     for _ in 0..900 {
@@ -143,7 +140,7 @@ fn a_cloth_at_rest_stays_at_rest_on_the_gpu() {
 fn the_gpu_holds_what_the_cpu_holds() {
     // The reduction's held elastic energy (the family kernels with the multipliers) against the
     // CPU's honest account on the same state.
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let mut gpu = gpu_solver(&ctx, &kernels, hanging_cloth());
     let s = settings(3, 10, EnergyAware::Off);
     for _ in 0..40 {
@@ -161,7 +158,7 @@ fn the_gpu_holds_what_the_cpu_holds() {
 
 #[test]
 fn the_dropped_bunny_loses_what_its_contacts_take_on_the_gpu() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let opts = SceneOptions { lattice: Some(8), ..SceneOptions::default() };
     let mut gpu = gpu_solver(&ctx, &kernels, scene::build("bunny", &opts).unwrap());
     let s = settings(3, 10, EnergyAware::Project);

@@ -2,6 +2,8 @@
 //! forms and both iterations, the energy-aware settings, the GPU's energy reduction, and the
 //! mirrored cube. Needs a GPU adapter (Mesa lavapipe in CI).
 
+mod common;
+
 use std::sync::Arc;
 
 use eapbd::constraints::Form;
@@ -12,11 +14,6 @@ use eapbd::scene::{self, Scene, SceneOptions};
 use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
 use glam::{Vec3, Vec3A};
 
-fn context() -> (GpuContext, Arc<Kernels>) {
-    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    let kernels = Arc::new(Kernels::new(&ctx.device));
-    (ctx, kernels)
-}
 
 fn beam(model: Model) -> Scene {
     scene::build("beam", &SceneOptions { solid: Some(model), ..SceneOptions::default() }).unwrap()
@@ -71,7 +68,7 @@ const TOLERANCE: f32 = 1e-4;
 
 #[test]
 fn the_beam_matches_the_cpu_for_every_model_and_form() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
     for model in Model::ALL {
         for form in [Form::Compliant, Form::Energy] {
@@ -88,7 +85,7 @@ fn jacobi_damping_and_energy_aware_modes_match_the_cpu_on_the_beam() {
     // The energy-aware modes are compared with the CPU's own sensitivity (see `compare`): the
     // local mode's switch flips on rounding, and the global balance's σ comes from f32 sums on
     // the GPU. Plain Jacobi is held to the tolerance.
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let base = Settings { substeps: 2, iterations: 10, damping: 0.5, constraint_damping: 1e-3, ..Settings::default() };
     for (method, energy_aware) in [
         (Method::Jacobi, EnergyAware::Off),
@@ -109,7 +106,7 @@ fn jacobi_damping_and_energy_aware_modes_match_the_cpu_on_the_beam() {
 
 #[test]
 fn gpu_tet_energies_match_the_cpu() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let sc = beam(Model::StVK);
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
     let mut cpu = CpuSolver::<Vec3A>::new(sc.clone());
@@ -133,7 +130,7 @@ fn gpu_tet_energies_match_the_cpu() {
 fn the_bunny_recovers_from_every_disturbance_of_the_stability_study_on_the_gpu() {
     use eapbd::report::stability::{cases, run_case};
     use eapbd::simulation::Backend;
-    let gpu = context();
+    let gpu = common::gpu();
     for name in ["bunny-dt1e-1", "bunny-velocity-100", "bunny-inverted"] {
         let case = cases().into_iter().find(|c| c.name == name).unwrap();
         let o = run_case(&case, Backend::Gpu, Some(&gpu)).unwrap();
@@ -144,7 +141,7 @@ fn the_bunny_recovers_from_every_disturbance_of_the_stability_study_on_the_gpu()
 
 #[test]
 fn a_mirrored_cube_regains_positive_volume_on_the_gpu() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     for model in [Model::StVK, Model::NeoHookean, Model::MooneyRivlin, Model::ArrudaBoyce] {
         let mut sc = scene::build("cube", &SceneOptions { solid: Some(model), ..SceneOptions::default() }).unwrap();
         for p in &mut sc.positions {
@@ -168,7 +165,7 @@ fn centroid_tetrahedra_match_the_cpu() {
     // The paper's surface-plus-centroid tetrahedra: every element shares the centroid, so each
     // is its own color group (192 of them), and the GPU sweeps them all in one dispatch per
     // iteration; 30 frames of the falling cube.
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let opts = SceneOptions { tets: scene::TetMode::Centroid, ..SceneOptions::default() };
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
     let sc = scene::build("cube", &opts).unwrap();
@@ -191,7 +188,7 @@ fn centroid_tetrahedra_match_the_cpu() {
 fn the_volumetric_bunny_and_its_embedded_surface_match_the_cpu() {
     // 60 frames of the dropped bunny (default lattice, 4998 tetrahedra), then the GPU's embed
     // pass against the CPU's barycentric placement on the same particle positions.
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let sc = scene::build("bunny", &SceneOptions::default()).unwrap();
     let embedding = sc.embedding.clone().unwrap();
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };

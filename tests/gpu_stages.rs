@@ -10,6 +10,8 @@
 //! energy-momentum projection with its start, and the self-collision's candidates and projection. These tests need a GPU adapter (Mesa lavapipe in
 //! CI) and fail without one.
 
+mod common;
+
 use std::collections::BTreeSet;
 use std::sync::Arc;
 
@@ -20,11 +22,6 @@ use eapbd::solver::stages::{self, FrameStart, Stage};
 use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
 use glam::{Vec3, Vec3A};
 
-fn context() -> (GpuContext, Arc<Kernels>) {
-    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    let kernels = Arc::new(Kernels::new(&ctx.device));
-    (ctx, kernels)
-}
 
 fn vec3(x: &[Vec3A]) -> Vec<Vec3> {
     x.iter().map(|&p| p.into()).collect()
@@ -111,7 +108,7 @@ fn check_frame(
 
 #[test]
 fn every_stage_matches_its_cpu_twin() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let cloth = SceneOptions { resolution: Some(12), stiffness: 1e4, ..SceneOptions::default() };
     let base = Settings { substeps: 2, iterations: 2, damping: 0.5, threads: 1, ..Settings::default() };
     let membrane = SceneOptions { membrane: Some(Orthotropic::new(200.0, 100.0, None, 0.2).unwrap()), ..cloth };

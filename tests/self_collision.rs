@@ -4,6 +4,8 @@
 //! and projects them alike. The GPU cases need an adapter (Mesa lavapipe in CI) and fail without
 //! one.
 
+mod common;
+
 use std::sync::Arc;
 
 use eapbd::constraints::Spring;
@@ -15,11 +17,6 @@ use eapbd::solver::stages::Stage;
 use eapbd::solver::{CpuSolver, Settings};
 use glam::{Vec3, Vec3A};
 
-fn context() -> (GpuContext, Arc<Kernels>) {
-    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    let kernels = Arc::new(Kernels::new(&ctx.device));
-    (ctx, kernels)
-}
 
 /// `scene` on `backend`.
 fn simulation(backend: Backend, scene: Scene, gpu: &(GpuContext, Arc<Kernels>)) -> Simulation {
@@ -42,7 +39,7 @@ fn crossings_over(sim: &mut Simulation, s: &Settings, frames: u32, every: u32) -
 
 #[test]
 fn the_draped_cloth_never_passes_through_itself_on_either_backend() {
-    let gpu = context();
+    let gpu = common::gpu();
     let on = scene::build("cloth-drape", &SceneOptions::default()).unwrap();
     assert!(on.self_collision.is_some(), "on by default for cloth-drape");
     let off = SceneOptions { self_collision: Some(false), ..SceneOptions::default() };
@@ -101,7 +98,7 @@ fn two_layers(n: u32, gap: f32, speed: f32, self_collision: bool) -> (Scene, Vec
 
 #[test]
 fn a_two_layer_sheet_pressed_together_keeps_its_layers_apart_on_either_backend() {
-    let gpu = context();
+    let gpu = common::gpu();
     let s = Settings { substeps: 10, iterations: 3, ..Settings::default() };
     let thickness = 1.0 / 20.0;
     let run = |backend: Backend, self_collision: bool| {
@@ -145,7 +142,7 @@ fn state(cpu: &CpuSolver<Vec3A>) -> [Vec<Vec3>; 3] {
 
 #[test]
 fn the_gpu_finds_the_cpus_candidates_and_projects_them_alike() {
-    let (ctx, kernels) = context();
+    let (ctx, kernels) = common::gpu();
     let opts = SceneOptions { resolution: Some(21), ..SceneOptions::default() };
     let scene = scene::build("cloth-drape", &opts).unwrap();
     let sc = scene.self_collision.clone().unwrap();

@@ -1,5 +1,10 @@
-//! Helpers shared by the constraint tests: random vectors and central finite differences.
+//! Helpers shared by the tests: random vectors and central finite differences (the constraint
+//! tests), and the GPU context with its kernels (the GPU tests).
 #![allow(dead_code)]
+
+use std::sync::Arc;
+
+use eapbd::gpu::{GpuContext, Kernels};
 
 use eapbd::constraints::{Element, Form};
 use glam::DVec3;
@@ -52,4 +57,12 @@ pub fn check_gradients<E: Element<N>, const N: usize>(what: &str, e: &E, p: &E::
     let pe = e.constraint(p, x, Form::Energy, 1e-5);
     assert_eq!(pe.c, e_m);
     assert_eq!(pe.alpha, 1e-5);
+}
+
+/// The GPU context and its kernels; the GPU tests need an adapter (Mesa lavapipe in CI) and fail
+/// without one.
+pub fn gpu() -> (GpuContext, Arc<Kernels>) {
+    let ctx = GpuContext::new().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let kernels = Arc::new(Kernels::new(&ctx.device));
+    (ctx, kernels)
 }
