@@ -13,7 +13,6 @@ use eapbd::solver::projection::{momenta, momentum_scales};
 use eapbd::solver::{CpuSolver, EnergyAware, Settings};
 use glam::{Vec3, Vec3A};
 
-
 fn settings(substeps: u32, iterations: u32, energy_aware: EnergyAware) -> Settings {
     Settings { substeps, iterations, energy_aware, threads: 1, ..Settings::default() }
 }

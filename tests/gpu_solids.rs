@@ -14,7 +14,6 @@ use eapbd::scene::{self, Scene, SceneOptions};
 use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
 use glam::{Vec3, Vec3A};
 
-
 fn beam(model: Model) -> Scene {
     scene::build("beam", &SceneOptions { solid: Some(model), ..SceneOptions::default() }).unwrap()
 }

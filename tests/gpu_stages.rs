@@ -22,7 +22,6 @@ use eapbd::solver::stages::{self, FrameStart, Stage};
 use eapbd::solver::{CpuSolver, EnergyAware, Method, Settings};
 use glam::{Vec3, Vec3A};
 
-
 fn vec3(x: &[Vec3A]) -> Vec<Vec3> {
     x.iter().map(|&p| p.into()).collect()
 }

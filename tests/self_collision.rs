@@ -17,7 +17,6 @@ use eapbd::solver::stages::Stage;
 use eapbd::solver::{CpuSolver, Settings};
 use glam::{Vec3, Vec3A};
 
-
 /// `scene` on `backend`.
 fn simulation(backend: Backend, scene: Scene, gpu: &(GpuContext, Arc<Kernels>)) -> Simulation {
     Simulation::new(backend, scene, Some((&gpu.0, &gpu.1))).unwrap()
