@@ -56,9 +56,14 @@ pub fn table_size(n: usize) -> usize {
     (2 * n).next_power_of_two().max(64)
 }
 
+/// How far a particle may stray before the candidates are found anew (m): `m`.
+pub fn margin(sc: &SelfCollision) -> f32 {
+    MARGIN * sc.thickness
+}
+
 /// The candidates' reach when found (m): `r + 2m`.
 pub fn reach(sc: &SelfCollision) -> f32 {
-    QUERY * sc.thickness + 2.0 * MARGIN * sc.thickness
+    QUERY * sc.thickness + 2.0 * margin(sc)
 }
 
 /// The distance below which two particles' rest positions make them mesh neighbours (m).
@@ -158,7 +163,7 @@ impl SelfPairs {
     /// more than the margin since they were found, not counting the mean displacement (a common
     /// translation moves no pair closer).
     pub fn update<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision) {
-        let m = MARGIN * sc.thickness;
+        let m = margin(sc);
         let stale = self.at.len() != x.len() || {
             let shift: glam::Vec3 =
                 x.iter().zip(&self.at).map(|(p, q)| p.to_vec3() - *q).sum::<glam::Vec3>() / x.len().max(1) as f32;

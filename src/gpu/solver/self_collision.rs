@@ -10,7 +10,7 @@ use super::{GpuSolver, entry, groups, read_buffer, storage_buffer};
 use crate::error::Result;
 use crate::gpu::kernels::Kernels;
 use crate::scene::SelfCollision;
-use crate::solver::self_collision::{CAPACITY, MARGIN, neighbour_distance, reach, table_size};
+use crate::solver::self_collision::{CAPACITY, margin, neighbour_distance, reach, table_size};
 
 /// The self-collision's candidates read back from the GPU, the twin of
 /// [`crate::solver::self_collision::SelfPairs`]'s.
@@ -25,6 +25,12 @@ pub struct GpuSelfPairs {
     /// Times the candidates have been found.
     pub builds: u64,
 }
+
+/// Dispatches of [`crate::solver::stages::Stage::SelfPairs`]: check, clear, count, prefix,
+/// scatter, find.
+pub(super) const PAIRS_DISPATCHES: usize = 6;
+/// Dispatches of [`crate::solver::stages::Stage::SelfCollision`]: project, apply.
+pub(super) const PASS_DISPATCHES: usize = 2;
 
 /// `SelfParams` in WGSL.
 #[repr(C)]
@@ -59,7 +65,7 @@ impl SelfBuffers {
     pub fn new(device: &wgpu::Device, kernels: &Kernels, sc: &SelfCollision, n: usize) -> Self {
         let size = table_size(n);
         let r = reach(sc);
-        let m = MARGIN * sc.thickness;
+        let m = margin(sc);
         let params = SelfParams {
             thickness: sc.thickness,
             friction: sc.friction,
@@ -104,14 +110,15 @@ impl GpuSolver {
         let k = self.kernels.self_collision();
         pass.set_bind_group(1, &sb.bind_group, &[]);
         let particles = groups(self.n);
-        for (pipeline, workgroups) in [
+        let list: [(&wgpu::ComputePipeline, u32); PAIRS_DISPATCHES] = [
             (&k.check, 1),
             (&k.clear, groups(sb.table_size + 1)),
             (&k.count, particles),
             (&k.prefix, 1),
             (&k.scatter, particles),
             (&k.find, particles),
-        ] {
+        ];
+        for (pipeline, workgroups) in list {
             pass.set_pipeline(pipeline);
             pass.dispatch_workgroups(workgroups, 1, 1);
         }
@@ -123,7 +130,8 @@ impl GpuSolver {
         let Some(sb) = &self.self_collision else { return };
         let k = self.kernels.self_collision();
         pass.set_bind_group(1, &sb.bind_group, &[]);
-        for pipeline in [&k.project, &k.apply] {
+        let list: [&wgpu::ComputePipeline; PASS_DISPATCHES] = [&k.project, &k.apply];
+        for pipeline in list {
             pass.set_pipeline(pipeline);
             pass.dispatch_workgroups(groups(self.n), 1, 1);
         }

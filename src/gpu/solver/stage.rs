@@ -3,7 +3,7 @@
 
 use glam::{Vec3, Vec4};
 
-use super::{FamilyKernels, GpuFamily, GpuSolver, Run, groups, read_buffer};
+use super::{FamilyKernels, GpuFamily, GpuSolver, Run, groups, read_buffer, self_collision};
 use crate::error::{Error, Result};
 use crate::scene::FAMILY_COUNT;
 use crate::solver::stages::Stage;
@@ -129,8 +129,8 @@ impl GpuSolver {
                 f.is_some_and(|f| f.sweeps[color].run != Run::Inside) as u64
             }
             Stage::Predict | Stage::LocalSnapshot | Stage::Contacts | Stage::Finish => 1,
-            Stage::SelfPairs if self.self_collision.is_some() => 6,
-            Stage::SelfCollision if self.self_collision.is_some() => 2,
+            Stage::SelfPairs if self.self_collision.is_some() => self_collision::PAIRS_DISPATCHES as u64,
+            Stage::SelfCollision if self.self_collision.is_some() => self_collision::PASS_DISPATCHES as u64,
             Stage::SelfPairs | Stage::SelfCollision => 0,
             Stage::Clear => present,
             Stage::LocalBegin => 1 + present,
