@@ -111,6 +111,10 @@ pub struct SplitRun {
     pub stretch_end: f64,
     /// Mean relative stretch averaged over the last window.
     pub stretch_late: f64,
+    /// Kinetic energy per frame (J).
+    pub kinetic: Vec<f64>,
+    /// Mean relative stretch per frame.
+    pub stretch: Vec<f64>,
     /// Median solve time per frame, one thread (ms).
     pub ms: f64,
 }
@@ -130,7 +134,33 @@ impl SplitRun {
     pub fn u_max(&self) -> f64 {
         self.u.iter().copied().fold(f64::NAN, f64::max)
     }
+
+    /// This run's stretch over the last `window` frames against `off`'s at the same kinetic
+    /// energy: each late frame with kinetic energy `K` is matched with the frames of `off` after
+    /// its first `window` (the fall) whose kinetic energy is within [`EQUAL_MOTION`] of `K`, and
+    /// the result is `Σ s / Σ s̄_off` over the matched frames (`s` the frame's mean stretch, `s̄_off`
+    /// the mean over its matches), with the fraction of late frames matched. A cloth that keeps
+    /// its motion stretches more than one that has come to rest under the same under-converged
+    /// solve; this separates the stretch the setting adds from the stretch of the motion it keeps.
+    /// `None` when no late frame has a match.
+    pub fn stretch_at_equal_motion(&self, off: &SplitRun, window: usize) -> Option<(f64, f64)> {
+        let late = self.kinetic.len().saturating_sub(window);
+        let settled = || off.kinetic.iter().zip(&off.stretch).skip(window);
+        let (mut ours, mut theirs, mut matched) = (0.0, 0.0, 0usize);
+        for (&k, &s) in self.kinetic.iter().zip(&self.stretch).skip(late) {
+            let (sum, count) = settled()
+                .filter(|&(&ko, _)| (ko - k).abs() <= EQUAL_MOTION * k)
+                .fold((0.0, 0usize), |(sum, count), (_, &so)| (sum + so, count + 1));
+            if count > 0 {
+                (ours, theirs, matched) = (ours + s, theirs + sum / count as f64, matched + 1);
+            }
+        }
+        (matched > 0).then(|| (ours / theirs, matched as f64 / (self.kinetic.len() - late) as f64))
+    }
 }
+
+/// Relative tolerance on the kinetic energy of frames compared "at equal motion".
+pub const EQUAL_MOTION: f64 = 0.15;
 
 /// One run of the free stretched cloth (no gravity, 3 substeps of 10 iterations).
 #[derive(Clone, Debug)]
@@ -200,6 +230,8 @@ pub fn run_split(
         kinetic_ratio: mean(&kinetic[len - w..]) / mean(&kinetic[..w]).max(1e-30),
         stretch_end: stretch[len - 1],
         stretch_late: mean(&stretch[len - w..]),
+        kinetic,
+        stretch,
         ms: times[times.len() / 2],
     })
 }
@@ -291,4 +323,44 @@ pub(super) fn write_plots(dir: &Path, opts: &SplitsOptions, runs: &[SplitRun]) -
     save_panels(&dir.join("splits_n.png"), "Hanging cloth: normalised honest energy", &n, 2, (520, 340))?;
     let u = panels(opts, runs, "unresolved / (E0 − E_eq)", |r| &r.u);
     save_panels(&dir.join("splits_unresolved.png"), "Hanging cloth: unresolved stretch (not energy)", &u, 2, (520, 340))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn run(kinetic: Vec<f64>, stretch: Vec<f64>) -> SplitRun {
+        SplitRun {
+            substeps: 10,
+            iterations: 3,
+            variant: EnergyAware::Off,
+            n: vec![],
+            u: vec![],
+            kinetic_ratio: 0.0,
+            stretch_end: 0.0,
+            stretch_late: 0.0,
+            kinetic,
+            stretch,
+            ms: 0.0,
+        }
+    }
+
+    #[test]
+    fn stretch_at_equal_motion_compares_frames_of_like_kinetic_energy() {
+        // `off` falls (frames 0 and 1, skipped), then slows down: stretch follows the motion,
+        // 0.01 per J.
+        let off = run(vec![9.0, 8.0, 3.0, 2.0, 1.0, 0.5], vec![0.5, 0.4, 0.03, 0.02, 0.01, 0.005]);
+        // The other keeps moving: its last two frames (3 J and 1 J) stretch twice as much as
+        // `off` at 3 J and as much at 1 J.
+        let kept = run(vec![9.0, 8.0, 7.0, 3.0, 1.0], vec![0.5, 0.4, 0.9, 0.06, 0.01]);
+        let (ratio, matched) = kept.stretch_at_equal_motion(&off, 2).unwrap();
+        assert!((ratio - 0.07 / 0.04).abs() < 1e-12, "{ratio}");
+        assert_eq!(matched, 1.0);
+        // Over three frames, 7 J has no match and 3 J none after `off`'s first three frames.
+        let (ratio, matched) = kept.stretch_at_equal_motion(&off, 3).unwrap();
+        assert!((ratio - 1.0).abs() < 1e-12, "{ratio}");
+        assert!((matched - 1.0 / 3.0).abs() < 1e-12, "{matched}");
+        // `off` against a run that never moves as it does.
+        assert_eq!(run(vec![0.0, 20.0], vec![0.0, 0.1]).stretch_at_equal_motion(&off, 1), None);
+    }
 }

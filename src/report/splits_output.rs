@@ -4,13 +4,12 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use super::splits::{FreeRun, Reference, SPLITS, SplitRun, SplitsOptions, write_plots};
+use super::splits::{EQUAL_MOTION, FreeRun, Reference, SPLITS, SplitRun, SplitsOptions, write_plots};
 use crate::error::{Error, Result};
 use crate::solver::EnergyAware;
 
 /// Column names of `splits.csv`.
-pub const CSV_HEADER: &str =
-    "substeps,iterations,setting,n_end,n_max,kinetic_ratio,stretch_end,stretch_late,unresolved_max,ms_per_frame";
+pub const CSV_HEADER: &str = "substeps,iterations,setting,n_end,n_max,kinetic_ratio,stretch_end,stretch_late,stretch_equal_motion,unresolved_max,ms_per_frame";
 
 /// Writes the study's files into `dir`.
 pub fn write_outputs(
@@ -25,11 +24,13 @@ pub fn write_outputs(
         std::fs::write(&path, text).map_err(|source| Error::Io { path, source })
     };
     std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_path_buf(), source })?;
+    let w = opts.window();
     let mut csv = format!("{CSV_HEADER}\n");
     for run in runs {
+        let equal = off_of(runs, run).and_then(|o| run.stretch_at_equal_motion(o, w));
         let _ = writeln!(
             csv,
-            "{},{},{},{:.6},{:.6},{:.6},{:.6e},{:.6e},{:.6e},{:.4}",
+            "{},{},{},{:.6},{:.6},{:.6},{:.6e},{:.6e},{:.4},{:.6e},{:.4}",
             run.substeps,
             run.iterations,
             run.variant.name(),
@@ -38,6 +39,7 @@ pub fn write_outputs(
             run.kinetic_ratio,
             run.stretch_end,
             run.stretch_late,
+            equal.map_or(f64::NAN, |e| e.0),
             run.u_max(),
             run.ms
         );
@@ -45,6 +47,11 @@ pub fn write_outputs(
     write("splits.csv", csv)?;
     write_plots(dir, opts, runs)?;
     write("splits.md", markdown(opts, r, runs, free))
+}
+
+/// The `off` run at `run`'s split.
+fn off_of<'a>(runs: &'a [SplitRun], run: &SplitRun) -> Option<&'a SplitRun> {
+    runs.iter().find(|o| (o.substeps, o.iterations) == (run.substeps, run.iterations) && o.variant == EnergyAware::Off)
 }
 
 fn markdown(opts: &SplitsOptions, r: &Reference, runs: &[SplitRun], free: &[FreeRun]) -> String {
@@ -62,6 +69,12 @@ fn markdown(opts: &SplitsOptions, r: &Reference, runs: &[SplitRun], free: &[Free
          - **kinetic** = mean kinetic energy over the last {w:.0} s over that of the first {w:.0} s.\n\
          - **stretch**: mean relative stretch at the last frame, and its average over the last {w:.0} s; \
          `×off` is the ratio to `off` at the same split.\n\
+         - **at equal motion**: the late stretch against `off`'s at the same kinetic energy (each of the last \
+         {w:.0} s's frames matched with `off`'s frames after its first {w:.0} s whose kinetic energy is within \
+         {tol:.0}%; Σ stretch / Σ matched `off` stretch, and the share of frames matched). A cloth that keeps its \
+         motion stretches more than one that has come to rest under the same under-converged solve; this column \
+         separates the stretch a setting adds from that of the motion it keeps. `off` against itself shows the \
+         matching's own bias.\n\
          - **u max**: the largest unresolved elastic energy (stretch that no constraint force holds, not counted \
          in H), in units of E0 − E_eq.\n\
          - **ms**: median solve time per frame; `×off` against `off` at the same split, measured in the same run.\n",
@@ -71,21 +84,22 @@ fn markdown(opts: &SplitsOptions, r: &Reference, runs: &[SplitRun], free: &[Free
         f = opts.frames,
         e0 = r.e0,
         eq = r.e_eq,
+        tol = 100.0 * EQUAL_MOTION,
     );
-    let off = |sub, it| runs.iter().find(|o| (o.substeps, o.iterations) == (sub, it) && o.variant == EnergyAware::Off);
     for (sub, it) in SPLITS {
         let _ = writeln!(s, "## {sub} substeps × {it} iterations\n");
         let _ = writeln!(
             s,
-            "| setting | n at end | n peak | kinetic | stretch at end (×off) | stretch late (×off) | u max | ms (×off) |"
+            "| setting | n at end | n peak | kinetic | stretch at end (×off) | stretch late (×off) | at equal motion (×off, matched) | u max | ms (×off) |"
         );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
-        let base = off(sub, it);
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|");
         let ratio = |v: f64, b: Option<f64>| b.map_or(String::new(), |b| format!(" ({:.2}×)", v / b));
         for run in runs.iter().filter(|o| (o.substeps, o.iterations) == (sub, it)) {
+            let base = off_of(runs, run);
+            let equal = base.and_then(|o| run.stretch_at_equal_motion(o, opts.window()));
             let _ = writeln!(
                 s,
-                "| {} | {:.3} | {:.3} | {:.3} | {:.4}{} | {:.4}{} | {:.3} | {:.2}{} |",
+                "| {} | {:.3} | {:.3} | {:.3} | {:.4}{} | {:.4}{} | {} | {:.3} | {:.2}{} |",
                 run.variant.name(),
                 run.n_end(),
                 run.n_max(),
@@ -94,6 +108,7 @@ fn markdown(opts: &SplitsOptions, r: &Reference, runs: &[SplitRun], free: &[Free
                 ratio(run.stretch_end, base.map(|b| b.stretch_end)),
                 run.stretch_late,
                 ratio(run.stretch_late, base.map(|b| b.stretch_late)),
+                equal.map_or("–".into(), |(r, m)| format!("{r:.2}× ({:.0}%)", 100.0 * m)),
                 run.u_max(),
                 run.ms,
                 ratio(run.ms, base.map(|b| b.ms)),
