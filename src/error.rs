@@ -79,3 +79,31 @@ impl Error {
         })
     }
 }
+
+/// The command-line names of a fieldless enum, declared once: `NAMES` (accepted names),
+/// `name()` (a value's name) and `FromStr` through [`Error::lookup`] (an unknown name is an
+/// error naming `what` and the accepted names); `also` adds names accepted besides.
+macro_rules! command_names {
+    ($ty:ident, $what:literal, { $($variant:ident => $name:literal),+ $(,)? }
+        $(also { $($alias:literal => $aliased:ident),+ $(,)? })?) => {
+        impl $ty {
+            /// Names accepted on the command line.
+            pub const NAMES: [&'static str; [$($name),+].len()] = [$($name),+];
+
+            /// The command-line name.
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($ty::$variant => $name),+
+                }
+            }
+        }
+
+        impl std::str::FromStr for $ty {
+            type Err = $crate::error::Error;
+            fn from_str(s: &str) -> $crate::error::Result<Self> {
+                $crate::error::Error::lookup($what, s, &[$(($name, $ty::$variant)),+ $($(, ($alias, $ty::$aliased))+)?])
+            }
+        }
+    };
+}
+pub(crate) use command_names;

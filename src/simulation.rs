@@ -20,25 +20,7 @@ pub enum Backend {
     Gpu,
 }
 
-impl Backend {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 2] = ["cpu", "gpu"];
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Backend::Cpu => "cpu",
-            Backend::Gpu => "gpu",
-        }
-    }
-}
-
-impl std::str::FromStr for Backend {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup("backend", s, &[("cpu", Backend::Cpu), ("gpu", Backend::Gpu)])
-    }
-}
+crate::error::command_names!(Backend, "backend", { Cpu => "cpu", Gpu => "gpu" });
 
 /// A scene being simulated on one backend.
 #[derive(Debug)]

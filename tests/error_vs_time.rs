@@ -5,29 +5,15 @@
 //! frame K.
 #![cfg(feature = "cli")]
 
+mod common;
+
 use std::collections::HashMap;
-use std::path::Path;
-use std::process::Command;
 
 use eapbd::constraints::Form;
 use eapbd::report::error_time::{FRAME_CSV_HEADER, SWEEP_CSV_HEADER, Split, StudyOptions, study_scene_options};
 use eapbd::scene::SceneOptions;
 
 type Row = HashMap<String, String>;
-
-fn read_csv(path: &Path, expected_header: &str) -> Vec<Row> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
-    assert_eq!(header.join(","), expected_header, "{}", path.display());
-    lines
-        .map(|l| {
-            let cols: Vec<&str> = l.split(',').collect();
-            assert_eq!(cols.len(), header.len(), "{l}");
-            header.iter().zip(&cols).map(|(h, v)| (h.to_string(), v.to_string())).collect()
-        })
-        .collect()
-}
 
 fn num(row: &Row, col: &str) -> f64 {
     row[col].parse().unwrap_or_else(|_| panic!("{col} of {row:?}"))
@@ -39,12 +25,7 @@ fn int(row: &Row, col: &str) -> u32 {
 
 fn quick_report(scene: &str) {
     let dir = std::env::temp_dir().join(format!("eapbd-error-test-{scene}-{}", std::process::id()));
-    let out = Command::new(env!("CARGO_BIN_EXE_eapbd"))
-        .args(["report", "error-vs-time", "--scene", scene, "--quick", "--out", dir.to_str().unwrap()])
-        .output()
-        .expect("the binary runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    common::run_report(&["error-vs-time", "--scene", scene, "--quick"], &dir);
     let md = std::fs::read_to_string(dir.join("error_vs_time.md")).expect("error_vs_time.md");
     assert!(md.contains("## Fastest to a given error") && md.contains("## Error against frame number"), "{md}");
     for png in ["error_vs_time.png", "error_vs_budget.png", "error_vs_frame.png"] {
@@ -52,7 +33,7 @@ fn quick_report(scene: &str) {
     }
 
     let opts = StudyOptions::quick(scene, study_scene_options(scene, SceneOptions::default()));
-    let sweep = read_csv(&dir.join("error_vs_time.csv"), SWEEP_CSV_HEADER);
+    let sweep = common::read_csv(&dir.join("error_vs_time.csv"), SWEEP_CSV_HEADER);
     // Like the other GPU tests, a missing adapter fails rather than skips (CI has lavapipe).
     assert_eq!(sweep.len(), opts.variants.len() * opts.shapes().len(), "every variant at every shape");
     for row in &sweep {
@@ -97,7 +78,7 @@ fn quick_report(scene: &str) {
     assert!(checked >= 13, "only {checked} compliant curves checked");
 
     // The error-against-frame runs: every frame finite, and at frame K the same run as the sweep's.
-    let track = read_csv(&dir.join("error_vs_frame.csv"), FRAME_CSV_HEADER);
+    let track = common::read_csv(&dir.join("error_vs_frame.csv"), FRAME_CSV_HEADER);
     let shapes = opts.track_shapes();
     assert_eq!(track.len(), opts.variants.len() * shapes.len() * opts.track_frames as usize);
     for p in &track {

@@ -2,11 +2,14 @@
 //! drawn headless on the GPU, against stored images. Regenerate the reference on purpose with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release
 //! --test screenshot`. Needs a GPU adapter (Mesa lavapipe in CI).
 
-use std::path::PathBuf;
+mod common;
+
 use std::sync::Arc;
 
+use common::mean_abs_diff;
+
 use eapbd::gpu::{GpuContext, Kernels};
-use eapbd::render::{Snapshotter, save_png};
+use eapbd::render::Snapshotter;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::simulation::{Backend, Simulation};
 use eapbd::solver::{EnergyAware, Settings};
@@ -15,15 +18,6 @@ const WIDTH: u32 = 320;
 const HEIGHT: u32 = 240;
 /// Mean absolute difference per channel (0–255) allowed against the reference.
 const MEAN_TOLERANCE: f64 = 1.5;
-
-fn golden(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(name)
-}
-
-fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
-    let sum: u64 = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y) as u64).sum();
-    sum as f64 / a.as_raw().len() as f64
-}
 
 /// Fraction of pixels that differ clearly from the background.
 fn coverage(img: &image::RgbaImage, background: &image::RgbaImage) -> f64 {
@@ -55,56 +49,31 @@ fn render(backend: Backend, frames: u32) -> (image::RgbaImage, image::RgbaImage)
     render_scene("cloth-paper", backend, frames, &Settings::default())
 }
 
-/// Compares `img` with the stored `file` (or stores it when `EAPBD_UPDATE_SNAPSHOTS` is set).
-fn check_golden(img: &image::RgbaImage, file: &str) {
-    let path = golden(file);
-    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
-        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
-        save_png(img, &path).unwrap();
-        eprintln!("updated {}", path.display());
-    }
-    let reference = image::open(&path)
-        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", path.display()))
-        .to_rgba8();
-    assert_eq!(reference.dimensions(), img.dimensions());
-    let diff = mean_abs_diff(img, &reference);
-    eprintln!("{file}: mean difference from the reference {diff:.3} of 255");
-    if diff >= MEAN_TOLERANCE {
-        let out = std::env::temp_dir().join(file.replace(".png", "_actual.png"));
-        save_png(img, &out).unwrap();
-        panic!("{file}: mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}", out.display());
-    }
+/// `img` against the stored `file`, and not blank: the body covers a fraction of the picture in
+/// `covers`, where it differs clearly from what is behind it.
+fn check_picture((img, background): (image::RgbaImage, image::RgbaImage), file: &str, covers: std::ops::Range<f64>) {
+    common::check_golden(&img, file, MEAN_TOLERANCE);
+    let fraction = coverage(&img, &background);
+    assert!(covers.contains(&fraction), "{file}: the body covers {:.1}% of the image", 100.0 * fraction);
 }
 
 #[test]
 fn bunny_matches_the_stored_image() {
     // The volumetric bunny's embedded surface after it has landed.
     let s = Settings { substeps: 2, iterations: 10, ..Settings::default() };
-    let (img, background) = render_scene("bunny", Backend::Gpu, 60, &s);
-    check_golden(&img, "bunny_60.png");
-    let fraction = coverage(&img, &background);
-    assert!((0.03..0.6).contains(&fraction), "the bunny covers {:.1}% of the image", 100.0 * fraction);
+    check_picture(render_scene("bunny", Backend::Gpu, 60, &s), "bunny_60.png", 0.03..0.6);
 }
 
 #[test]
 fn cloth_drape_matches_the_stored_image() {
     // The upright cloth folding onto the ground with self-collision (the CPU solver, the only
     // backend that has it so far), three quarters of a second in.
-    let (img, background) = render_scene("cloth-drape", Backend::Cpu, 45, &Settings::default());
-    check_golden(&img, "cloth_drape_45.png");
-    let fraction = coverage(&img, &background);
-    assert!((0.01..0.6).contains(&fraction), "the cloth covers {:.1}% of the image", 100.0 * fraction);
+    check_picture(render_scene("cloth-drape", Backend::Cpu, 45, &Settings::default()), "cloth_drape_45.png", 0.01..0.6);
 }
 
 #[test]
 fn cloth_paper_matches_the_stored_image() {
-    let (img, background) = render(Backend::Gpu, 60);
-    check_golden(&img, "cloth_paper_60.png");
-
-    // Not blank: the cloth covers a sensible part of the picture and differs from what is
-    // behind it.
-    let fraction = coverage(&img, &background);
-    assert!((0.05..0.6).contains(&fraction), "the cloth covers {:.1}% of the image", 100.0 * fraction);
+    check_picture(render(Backend::Gpu, 60), "cloth_paper_60.png", 0.05..0.6);
 }
 
 #[test]
@@ -138,7 +107,7 @@ fn render_compare_draws_both_runs_side_by_side() {
     let img = image::open(out.join("frame_00300.png")).unwrap().to_rgba8();
     let _ = std::fs::remove_dir_all(&out);
     assert_eq!(img.dimensions(), (2 * WIDTH, HEIGHT));
-    check_golden(&img, "compare_energy_aware_300.png");
+    common::check_golden(&img, "compare_energy_aware_300.png", MEAN_TOLERANCE);
 
     // Each half is its run: the same frame drawn alone differs only where the label lies.
     let base = Settings { substeps: 10, iterations: 3, ..Settings::default() };

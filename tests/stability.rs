@@ -2,38 +2,25 @@
 //! (`docs/stability/stability.csv`) lists as passing still passes.
 #![cfg(feature = "cli")]
 
+mod common;
+
 use std::collections::HashMap;
 use std::path::Path;
-use std::process::Command;
 
 use eapbd::report::stability::{CSV_HEADER, quick_cases};
 
 /// Rows of a stability CSV keyed by `(case, backend)`, as column name → value.
 fn read_csv(path: &Path) -> HashMap<(String, String), HashMap<String, String>> {
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
-    assert_eq!(header.join(","), CSV_HEADER, "{}", path.display());
-    lines
-        .map(|l| {
-            let cols: Vec<&str> = l.splitn(header.len(), ',').collect();
-            assert_eq!(cols.len(), header.len(), "{l}");
-            let row: HashMap<String, String> =
-                header.iter().zip(&cols).map(|(h, v)| (h.to_string(), v.to_string())).collect();
-            ((row["case"].clone(), row["backend"].clone()), row)
-        })
+    common::read_csv(path, CSV_HEADER)
+        .into_iter()
+        .map(|row| ((row["case"].clone(), row["backend"].clone()), row))
         .collect()
 }
 
 #[test]
 fn quick_stability_report_keeps_every_documented_pass() {
     let dir = std::env::temp_dir().join(format!("eapbd-stability-test-{}", std::process::id()));
-    let out = Command::new(env!("CARGO_BIN_EXE_eapbd"))
-        .args(["report", "stability", "--quick", "--out", dir.to_str().unwrap()])
-        .output()
-        .expect("the binary runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    common::run_report(&["stability", "--quick"], &dir);
     let md = std::fs::read_to_string(dir.join("stability.md")).expect("stability.md");
     assert!(md.contains("| group | case |") && md.contains("## Failing cases"), "{md}");
 

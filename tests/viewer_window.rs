@@ -5,6 +5,8 @@
 //! with `EAPBD_UPDATE_SNAPSHOTS=1 cargo test --release --test viewer_window`.
 #![cfg(feature = "cli")]
 
+mod common;
+
 use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
@@ -57,11 +59,6 @@ fn display() -> (Option<Xvfb>, String) {
     }
 }
 
-fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
-    let sum: u64 = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y) as u64).sum();
-    sum as f64 / a.as_raw().len() as f64
-}
-
 /// Pixels in `[x0, x1) × [y0, y1)` satisfying `f`, as a fraction.
 fn fraction(img: &image::RgbaImage, (x0, x1): (u32, u32), (y0, y1): (u32, u32), f: impl Fn([u8; 3]) -> bool) -> f64 {
     let mut n = 0usize;
@@ -112,28 +109,6 @@ fn screenshot(display: &str, args: &[&str], name: &str) -> (image::RgbaImage, Pa
     (img, out)
 }
 
-/// Compares `img` (written at `out`) with the stored `file`, or stores it when
-/// `EAPBD_UPDATE_SNAPSHOTS` is set.
-fn check_golden(img: &image::RgbaImage, out: &std::path::Path, file: &str) {
-    let golden = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(file);
-    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
-        std::fs::copy(out, &golden).expect("writing the reference");
-        eprintln!("updated {}", golden.display());
-    }
-    let reference = image::open(&golden)
-        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", golden.display()))
-        .to_rgba8();
-    assert_eq!(reference.dimensions(), img.dimensions());
-    let diff = mean_abs_diff(img, &reference);
-    eprintln!("{file}: mean difference from the reference: {diff:.3} of 255");
-    assert!(
-        diff < MEAN_TOLERANCE,
-        "{file}: mean difference {diff:.3} (limit {MEAN_TOLERANCE}); actual image at {}",
-        out.display()
-    );
-    let _ = std::fs::remove_file(out);
-}
-
 /// The cloth's share of the pixels in `[x0, x1)` (red front or blue back, lit).
 fn cloth(img: &image::RgbaImage, x: (u32, u32)) -> f64 {
     fraction(img, x, (0, HEIGHT), |[r, g, b]| {
@@ -158,7 +133,8 @@ fn viewer_window_draws_panels_and_scene() {
     let sky = fraction(&img, middle, (0, HEIGHT), |[r, g, b]| r > 180 && g > 180 && b > 190);
     let cloth = cloth(&img, middle);
     assert!(sky > 0.1 && cloth > 0.03, "no scene: {sky:.2} sky, {cloth:.3} cloth");
-    check_golden(&img, &out, "viewer_cloth_paper.png");
+    common::check_golden(&img, "viewer_cloth_paper.png", MEAN_TOLERANCE);
+    let _ = std::fs::remove_file(&out);
 }
 
 #[test]
@@ -175,5 +151,6 @@ fn compare_mode_draws_both_runs_labelled() {
     // The labels: light boxes at the top left of each half.
     let label = |x0: u32| fraction(&img, (x0, x0 + 80), (10, 24), |p| p.iter().all(|&c| c > 200));
     assert!(label(300) > 0.3 && label(mid + 8) > 0.3, "labels missing: {:.2}, {:.2}", label(300), label(mid + 8));
-    check_golden(&img, &out, "viewer_compare_energy_aware.png");
+    common::check_golden(&img, "viewer_compare_energy_aware.png", MEAN_TOLERANCE);
+    let _ = std::fs::remove_file(&out);
 }

@@ -32,18 +32,7 @@ pub enum Form {
     Energy,
 }
 
-impl Form {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 2] = ["compliant", "energy"];
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Form::Compliant => "compliant",
-            Form::Energy => "energy",
-        }
-    }
-}
+crate::error::command_names!(Form, "form", { Compliant => "compliant", Energy => "energy" });
 
 /// A constraint value prepared for the XPBD update: `C`, `∇C` per particle and the compliance
 /// `α` (m²/N-like units of the form in use; `0` is infinitely stiff).
@@ -207,20 +196,4 @@ pub fn gather<V: Vector, const N: usize>(x: &[V], idx: [u32; N]) -> [V; N] {
     idx.map(|i| x[i as usize])
 }
 
-impl std::str::FromStr for Form {
-    type Err = crate::Error;
-    fn from_str(s: &str) -> crate::Result<Self> {
-        crate::Error::lookup("form", s, &[("compliant", Form::Compliant), ("energy", Form::Energy)])
-    }
-}
-
-impl std::str::FromStr for SpringMaterial {
-    type Err = crate::Error;
-    fn from_str(s: &str) -> crate::Result<Self> {
-        crate::Error::lookup(
-            "material",
-            s,
-            &[("hookean", SpringMaterial::Hookean), ("stvk-spring", SpringMaterial::StVK)],
-        )
-    }
-}
+crate::error::command_names!(SpringMaterial, "material", { Hookean => "hookean", StVK => "stvk-spring" });

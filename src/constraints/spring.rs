@@ -26,17 +26,6 @@ pub enum SpringMaterial {
 }
 
 impl SpringMaterial {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 2] = ["hookean", "stvk-spring"];
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            SpringMaterial::Hookean => "hookean",
-            SpringMaterial::StVK => "stvk-spring",
-        }
-    }
-
     /// The per-spring constant `k` that gives the small-strain stiffness `k_s` (N/m) at rest
     /// length `l₀` (m): `k_s` for Hookean, `k_s / (4 l₀²)` for StVK.
     pub fn spring_constant(self, k_s: f32, rest: f32) -> f32 {

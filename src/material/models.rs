@@ -58,25 +58,15 @@ impl Model {
     /// All models, in documentation order.
     pub const ALL: [Model; 5] =
         [Model::Linear, Model::StVK, Model::NeoHookean, Model::MooneyRivlin, Model::ArrudaBoyce];
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Model::Linear => "linear",
-            Model::StVK => "stvk",
-            Model::NeoHookean => "neo-hookean",
-            Model::MooneyRivlin => "mooney-rivlin",
-            Model::ArrudaBoyce => "arruda-boyce",
-        }
-    }
 }
 
-impl std::str::FromStr for Model {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup("3D material", s, &Model::ALL.map(|m| (m.name(), m)))
-    }
-}
+crate::error::command_names!(Model, "3D material", {
+    Linear => "linear",
+    StVK => "stvk",
+    NeoHookean => "neo-hookean",
+    MooneyRivlin => "mooney-rivlin",
+    ArrudaBoyce => "arruda-boyce",
+});
 
 /// Singular values below this use the inversion extension.
 pub const SIGMA_MIN: f64 = 0.15;

@@ -3,7 +3,6 @@
 use glam::Vec3;
 
 use super::TriMesh;
-use crate::error::{Error, Result};
 
 /// Which diagonal each quad of a [`grid`] is split along.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -17,17 +16,7 @@ pub enum Diagonals {
     Alternating,
 }
 
-impl Diagonals {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 2] = ["uniform", "alternating"];
-}
-
-impl std::str::FromStr for Diagonals {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup("diagonals", s, &[("uniform", Diagonals::Uniform), ("alternating", Diagonals::Alternating)])
-    }
-}
+crate::error::command_names!(Diagonals, "diagonals", { Uniform => "uniform", Alternating => "alternating" });
 
 /// An `n × n` grid of side `size` (m), horizontal (normal +y) at height `height`, centred on the
 /// y axis, one diagonal per quad (chosen by `diagonals`): `2n(n−1) + (n−1)²` edges, `2(n−1)²`

@@ -21,21 +21,11 @@ pub enum Body {
     Volume,
 }
 
-impl Body {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 3] = ["springs", "centroid-tets", "volume"];
-}
-
-impl std::str::FromStr for Body {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup(
-            "body",
-            s,
-            &[("springs", Body::Springs), ("centroid-tets", Body::CentroidTets), ("volume", Body::Volume)],
-        )
-    }
-}
+crate::error::command_names!(Body, "body", {
+    Springs => "springs",
+    CentroidTets => "centroid-tets",
+    Volume => "volume",
+});
 
 /// Which bunny.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -236,17 +236,7 @@ pub enum TetMode {
     Centroid,
 }
 
-impl TetMode {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 2] = ["volume", "centroid"];
-}
-
-impl std::str::FromStr for TetMode {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup("tetrahedra", s, &[("volume", TetMode::Volume), ("centroid", TetMode::Centroid)])
-    }
-}
+crate::error::command_names!(TetMode, "tetrahedra", { Volume => "volume", Centroid => "centroid" });
 
 impl Default for SceneOptions {
     fn default() -> Self {

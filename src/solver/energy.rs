@@ -19,7 +19,6 @@
 //! `|H₀ + W − P₁ − K₁|` is within rounding of the sums, so a body at rest does not jitter.
 
 use crate::constraints::Form;
-use crate::error::{Error, Result};
 use crate::math::prelude::*;
 
 /// The energy-aware setting.
@@ -38,37 +37,12 @@ pub enum EnergyAware {
     Project,
 }
 
-impl EnergyAware {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 4] = ["off", "local", "global", "project"];
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            EnergyAware::Off => "off",
-            EnergyAware::Local => "local",
-            EnergyAware::Global => "global",
-            EnergyAware::Project => "project",
-        }
-    }
-}
-
-impl std::str::FromStr for EnergyAware {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup(
-            "energy-aware setting",
-            s,
-            &[
-                ("off", EnergyAware::Off),
-                ("local", EnergyAware::Local),
-                ("global", EnergyAware::Global),
-                ("project", EnergyAware::Project),
-                ("on", EnergyAware::Project),
-            ],
-        )
-    }
-}
+crate::error::command_names!(EnergyAware, "energy-aware setting", {
+    Off => "off",
+    Local => "local",
+    Global => "global",
+    Project => "project",
+} also { "on" => Project });
 
 /// `ε`: the global balance scales velocities by at most ±10% per substep.
 pub const GLOBAL_EPSILON: f64 = 0.1;

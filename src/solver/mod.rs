@@ -52,18 +52,7 @@ pub enum Method {
     Jacobi,
 }
 
-impl Method {
-    /// Names accepted on the command line.
-    pub const NAMES: [&'static str; 2] = ["gauss-seidel", "jacobi"];
-
-    /// The command-line name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Method::GaussSeidel => "gauss-seidel",
-            Method::Jacobi => "jacobi",
-        }
-    }
-}
+crate::error::command_names!(Method, "solver", { GaussSeidel => "gauss-seidel", Jacobi => "jacobi" });
 
 /// Solver settings; every field may change between frames.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -184,12 +173,5 @@ impl Settings {
             }
         }
         Ok(())
-    }
-}
-
-impl std::str::FromStr for Method {
-    type Err = Error;
-    fn from_str(s: &str) -> Result<Self> {
-        Error::lookup("solver", s, &[("gauss-seidel", Method::GaussSeidel), ("jacobi", Method::Jacobi)])
     }
 }

@@ -66,3 +66,64 @@ pub fn gpu() -> (GpuContext, Arc<Kernels>) {
     let kernels = Arc::new(Kernels::new(&ctx.device));
     (ctx, kernels)
 }
+
+/// Mean absolute difference per channel (0–255) of two images of one size.
+pub fn mean_abs_diff(a: &image::RgbaImage, b: &image::RgbaImage) -> f64 {
+    let sum: u64 = a.as_raw().iter().zip(b.as_raw()).map(|(x, y)| x.abs_diff(*y) as u64).sum();
+    sum as f64 / a.as_raw().len() as f64
+}
+
+/// Compares `img` with the stored `tests/golden/{file}`: the mean absolute difference per channel
+/// (0–255) must stay below `tolerance`. With `EAPBD_UPDATE_SNAPSHOTS` set, `img` is stored first
+/// (regenerating the references is always on purpose). A failing image is written to the temp
+/// directory as `{file}_actual.png`.
+pub fn check_golden(img: &image::RgbaImage, file: &str, tolerance: f64) {
+    let path = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(file);
+    if std::env::var_os("EAPBD_UPDATE_SNAPSHOTS").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        eapbd::render::save_png(img, &path).unwrap();
+        eprintln!("updated {}", path.display());
+    }
+    let reference = image::open(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; create it with EAPBD_UPDATE_SNAPSHOTS=1", path.display()))
+        .to_rgba8();
+    assert_eq!(reference.dimensions(), img.dimensions());
+    let diff = mean_abs_diff(img, &reference);
+    eprintln!("{file}: mean difference from the reference {diff:.3} of 255");
+    if diff >= tolerance {
+        let out = std::env::temp_dir().join(file.replace(".png", "_actual.png"));
+        eapbd::render::save_png(img, &out).unwrap();
+        panic!("{file}: mean difference {diff:.3} (limit {tolerance}); actual image at {}", out.display());
+    }
+}
+
+/// A CSV file's rows as column name → value, after checking its header is `header`.
+pub fn read_csv(path: &std::path::Path, header: &str) -> Vec<std::collections::HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let names: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    assert_eq!(names.join(","), header, "{}", path.display());
+    lines
+        .map(|l| {
+            let cols: Vec<&str> = l.splitn(names.len(), ',').collect();
+            assert_eq!(cols.len(), names.len(), "{l}");
+            names.iter().zip(&cols).map(|(h, v)| (h.to_string(), v.to_string())).collect()
+        })
+        .collect()
+}
+
+/// Runs `eapbd report {args} --out {dir}` and returns its standard output, failing with its
+/// output when it fails.
+#[cfg(feature = "cli")]
+pub fn run_report(args: &[&str], dir: &std::path::Path) -> String {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_eapbd"))
+        .arg("report")
+        .args(args)
+        .arg("--out")
+        .arg(dir)
+        .output()
+        .expect("the binary runs");
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(out.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&out.stderr));
+    stdout
+}
