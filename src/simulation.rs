@@ -87,6 +87,34 @@ impl Simulation {
             Simulation::Gpu(g) => g.read_positions(),
         }
     }
+
+    /// The self-collision's broad phase so far (the GPU reads it back); `None` without
+    /// self-collision.
+    pub fn self_collision_counts(&self) -> Result<Option<SelfCollisionCounts>> {
+        Ok(match self {
+            Simulation::Cpu(c) => c.scene().self_collision.as_ref().map(|_| {
+                let p = c.self_pairs();
+                SelfCollisionCounts { pairs: p.len(), builds: p.builds(), dropped: p.dropped() }
+            }),
+            Simulation::Gpu(g) => g.read_self_pairs()?.map(|p| SelfCollisionCounts {
+                pairs: p.pairs.len(),
+                builds: p.builds,
+                dropped: p.dropped,
+            }),
+        })
+    }
+}
+
+/// What the self-collision's broad phase has done ([`Simulation::self_collision_counts`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SelfCollisionCounts {
+    /// Candidate pairs now.
+    pub pairs: usize,
+    /// Times the candidates were found.
+    pub builds: u64,
+    /// Candidates dropped at the last finding beyond
+    /// [`crate::solver::self_collision::CAPACITY`] per particle.
+    pub dropped: u64,
 }
 
 /// The positions the renderer draws, one `vec4` per particle (xyz in m, w the inverse mass):

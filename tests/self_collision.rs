@@ -14,7 +14,7 @@ use eapbd::mesh::crossing_pairs;
 use eapbd::scene::{self, Family, Scene, SceneOptions, SelfCollision};
 use eapbd::simulation::{Backend, Simulation};
 use eapbd::solver::stages::Stage;
-use eapbd::solver::{CpuSolver, Settings};
+use eapbd::solver::{CpuSolver, Settings, self_collision};
 use glam::{Vec3, Vec3A};
 
 /// `scene` on `backend`.
@@ -184,6 +184,66 @@ fn the_gpu_finds_the_cpus_candidates_and_projects_them_alike() {
     assert!(moved > 50, "the pass pushes particles apart ({moved} moved over 10 µm)");
     // Positions near 1 m round at 1e-7 m: a GPU that fuses multiply-adds differs by that much.
     assert!(worst <= 1e-3 * largest, "the GPU's pass differs from the CPU's by {worst:e} m");
+}
+
+#[test]
+fn references_renewed_on_either_backend_give_the_same_candidates() {
+    // After a first finding, a common translation, a few particles moved beyond the margin and
+    // the others within it: the CPU finds only the renewed particles' candidates, the GPU all of
+    // them again, from references that agree to the bit.
+    let (ctx, kernels) = common::gpu();
+    let opts = SceneOptions { resolution: Some(21), ..SceneOptions::default() };
+    let scene = scene::build("cloth-drape", &opts).unwrap();
+    let sc = scene.self_collision.clone().unwrap();
+    let s = Settings { substeps: 10, iterations: 3, threads: 1, ..Settings::default() };
+    let mut cpu = CpuSolver::<Vec3A>::new(scene.clone());
+    for _ in 0..45 {
+        cpu.step_frame(&s);
+    }
+    let [x, x_prev, v] = state(&cpu);
+    let mut gpu = GpuSolver::new(kernels, &ctx.device, &ctx.queue, scene).unwrap();
+    gpu.set_state(&x, &x_prev, &v, cpu.lambdas()).unwrap();
+    let mut fresh = CpuSolver::<Vec3A>::new(cpu.scene().clone());
+    fresh.particles = cpu.particles.clone();
+    fresh.step_stages(&[Stage::SelfPairs], &s);
+    gpu.step_stages(&[Stage::SelfPairs], &s);
+    let before = fresh.self_pairs().pairs();
+    assert_eq!(gpu.read_self_pairs().unwrap().unwrap().pairs, before);
+
+    let m = self_collision::margin(&sc);
+    let moved: Vec<Vec3> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| {
+            let wobble = Vec3::new((i % 7) as f32 - 3.0, (i % 5) as f32 - 2.0, (i % 3) as f32 - 1.0) * (0.1 * m);
+            let far = if i % 37 == 5 { Vec3::new(3.0 * m, -2.0 * m, 4.0 * m) } else { Vec3::ZERO };
+            p + Vec3::new(0.01, -0.02, 0.005) + wobble + far
+        })
+        .collect();
+    fresh.particles.x = moved.iter().map(|&p| p.into()).collect();
+    gpu.overwrite_positions(&moved).unwrap();
+    fresh.step_stages(&[Stage::SelfPairs], &s);
+    gpu.step_stages(&[Stage::SelfPairs], &s);
+    let found = gpu.read_self_pairs().unwrap().unwrap();
+    let mine = fresh.self_pairs().pairs();
+    assert_eq!((found.builds, fresh.self_pairs().builds()), (2, 2));
+    assert_ne!(mine, before, "the moved particles have new candidates");
+    assert!(
+        found.pairs == mine,
+        "the GPU's {} candidate pairs differ from the CPU's {}",
+        found.pairs.len(),
+        mine.len()
+    );
+    // Every pair within the query distance now is a candidate.
+    let r = self_collision::QUERY * sc.thickness;
+    let neighbour = self_collision::neighbour_distance(&sc);
+    for i in 0..moved.len() {
+        for j in i + 1..moved.len() {
+            if moved[i].distance(moved[j]) < r && sc.rest[i].distance(sc.rest[j]) > neighbour {
+                assert!(mine.binary_search(&(i as u32, j as u32)).is_ok(), "({i}, {j}) is not a candidate");
+            }
+        }
+    }
 }
 
 #[test]

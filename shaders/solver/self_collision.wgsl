@@ -1,7 +1,9 @@
-// Cloth self-collision (mirrors src/solver/self_collision.rs step for step): the check of the
-// candidates, the spatial hash (clear, count, prefix sum, scatter), each particle's candidates,
-// and the Jacobi projection with its apply. The head defines CAPACITY, the candidates kept per
-// particle, and OVER_RELAXATION, the projection's ω. Keep the bindings in sync with
+// Cloth self-collision (mirrors src/solver/self_collision.rs and its broad_phase): the check of
+// the references, the spatial hash of the references (clear, count, prefix sum, scatter), each
+// particle's candidates (all of them again where one thread finds only the renewed particles',
+// the same lists), and the Jacobi projection with its apply. The head defines CAPACITY, the
+// candidates kept per particle, KEEP, the share of the margin beyond which a check renews a
+// reference, and OVER_RELAXATION, the projection's ω. Keep the bindings in sync with
 // src/gpu/kernels.rs (self_layout) and SelfParams with src/gpu/solver/self_collision.rs.
 
 struct SelfParams {
@@ -13,18 +15,20 @@ struct SelfParams {
     inv_reach: f32,
     // reach² (m²): candidates are closer than the reach.
     reach2: f32,
-    // margin² (m²): a particle may stray this far (squared) from the mean displacement.
+    // margin² (m²): a particle may stray this far (squared) from its reference beyond the mean
+    // displacement.
     margin2: f32,
     // Rest distances up to this make mesh neighbours (m).
     neighbour: f32,
     // Buckets of the hash: a power of two, at least 64.
     table_size: u32,
-    pad: u32,
+    // 1 / the number of particles: the mean displacement is the sum times this.
+    inv_n: f32,
 }
 
 @group(1) @binding(0) var<uniform> sp: SelfParams;
-// Rest positions [0, n), the positions the candidates were found at [n, 2n), each particle's
-// move in the pass [2n, 3n).
+// Rest positions [0, n), the references the candidates were found from [n, 2n), each
+// particle's move in the pass [2n, 3n).
 @group(1) @binding(1) var<storage, read_write> points: array<vec4<f32>>;
 // The hash's bucket starts [0, S] (counts at b + 1 while counting), its fill cursors
 // [S + 1, 2S + 1), then the state: stale, built, dropped, builds.
@@ -57,17 +61,20 @@ fn bucket_of(c: vec3<i32>) -> u32 {
 var<workgroup> stale_flag: u32;
 var<workgroup> run_sums: array<u32, 64>;
 
-// One workgroup: stale when nothing was found yet or some particle strayed more than the margin
-// from the particles' mean displacement since; then the positions are kept as the new reference.
+// One workgroup: the particles' mean displacement from their references, T (summed as
+// broad_phase::mean_shift does). When some particle strayed more than the margin beyond it,
+// every particle beyond KEEP times the margin takes x − T as its reference, and the candidates
+// are found anew from the references (at the first check, every reference is the position).
 @compute @workgroup_size(64)
 fn self_check(@builtin(local_invocation_id) lid3: vec3<u32>) {
     let lid = lid3.x;
     let n = params.num_particles;
+    let first = atomicLoad(&words[state_at() + 1u]) == 0u;
     var sum = vec3<f32>(0.0);
     for (var i = lid; i < n; i += 64u) {
         sum += x[i].xyz - points[n + i].xyz;
     }
-    let shift = reduce_workgroup(lid, vec4<f32>(sum, 0.0)).xyz / f32(max(n, 1u));
+    let shift = reduce_workgroup(lid, vec4<f32>(sum, 0.0)).xyz * sp.inv_n;
     var far = 0.0;
     for (var i = lid; i < n; i += 64u) {
         let d = x[i].xyz - points[n + i].xyz - shift;
@@ -76,11 +83,19 @@ fn self_check(@builtin(local_invocation_id) lid3: vec3<u32>) {
         }
     }
     let strayed = reduce_workgroup(lid, vec4<f32>(far, 0.0, 0.0, 0.0)).x > 0.0;
-    let stale = strayed || atomicLoad(&words[state_at() + 1u]) == 0u;
+    let stale = strayed || first;
     workgroupBarrier();
-    if (stale) {
+    if (first) {
         for (var i = lid; i < n; i += 64u) {
             points[n + i] = x[i];
+        }
+    } else if (strayed) {
+        let renew2 = sp.margin2 * (KEEP * KEEP);
+        for (var i = lid; i < n; i += 64u) {
+            let d = x[i].xyz - points[n + i].xyz - shift;
+            if (dot(d, d) > renew2) {
+                points[n + i] = vec4<f32>(x[i].xyz - shift, 0.0);
+            }
         }
     }
     if (lid == 0u) {
@@ -108,8 +123,9 @@ fn self_count(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     if (!is_stale()) {
         return;
     }
-    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
-        atomicAdd(&words[bucket_of(cell_of(x[i].xyz)) + 1u], 1u);
+    let n = params.num_particles;
+    for (var i = gid.x; i < n; i += stride(ng)) {
+        atomicAdd(&words[bucket_of(cell_of(points[n + i].xyz)) + 1u], 1u);
     }
 }
 
@@ -151,14 +167,16 @@ fn self_scatter(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_work
     if (!is_stale()) {
         return;
     }
-    for (var i = gid.x; i < params.num_particles; i += stride(ng)) {
-        let slot = atomicAdd(&words[sp.table_size + 1u + bucket_of(cell_of(x[i].xyz))], 1u);
+    let n = params.num_particles;
+    for (var i = gid.x; i < n; i += stride(ng)) {
+        let slot = atomicAdd(&words[sp.table_size + 1u + bucket_of(cell_of(points[n + i].xyz))], 1u);
         lists[slot] = i;
     }
 }
 
-// Particle i's candidates: every other particle closer than the reach in the 27 cells around
-// its own, no mesh neighbour, not both pinned, in increasing order, the lowest CAPACITY kept.
+// Particle i's candidates: every other particle whose reference is closer than the reach to its
+// own, in the 27 cells around its own, no mesh neighbour, not both pinned, in increasing order,
+// the lowest CAPACITY kept.
 @compute @workgroup_size(64)
 fn self_find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) ng: vec3<u32>) {
     if (!is_stale()) {
@@ -166,8 +184,9 @@ fn self_find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
     }
     let n = params.num_particles;
     for (var i = gid.x; i < n; i += stride(ng)) {
-        let p = x[i];
-        let c = cell_of(p.xyz);
+        let p = points[n + i].xyz;
+        let pinned = x[i].w == 0.0;
+        let c = cell_of(p);
         let rest = points[i].xyz;
         let base = 2u * n + i * CAPACITY;
         var count = 0u;
@@ -180,9 +199,9 @@ fn self_find(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgro
                     let end = atomicLoad(&words[b + 1u]);
                     for (var k = atomicLoad(&words[b]); k < end; k++) {
                         let j = lists[k];
-                        let q = x[j];
-                        let d = p.xyz - q.xyz;
-                        if (j == i || any(cell_of(q.xyz) != cell) || (p.w == 0.0 && q.w == 0.0)
+                        let q = points[n + j].xyz;
+                        let d = p - q;
+                        if (j == i || any(cell_of(q) != cell) || (pinned && x[j].w == 0.0)
                             || dot(d, d) >= sp.reach2 || length(rest - points[j].xyz) <= sp.neighbour) {
                             continue;
                         }

@@ -130,6 +130,15 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         last.total(),
         if finite { "all finite" } else { "NON-FINITE VALUES" }
     );
+    if let Some(sc) = sim.self_collision_counts()? {
+        say!(
+            "self-collision: {} candidate pairs, found {} times ({:.2} a frame), {} dropped at the last finding",
+            sc.pairs,
+            sc.builds,
+            sc.builds as f64 / a.frames.max(1) as f64,
+            sc.dropped
+        );
+    }
     if let Simulation::Cpu(c) = &sim
         && let Some(line) = team_line(c.team_time())
     {

@@ -76,10 +76,12 @@ pub fn particles() -> String {
 }
 
 /// The self-collision module as compiled: [`SELF_COLLISION`] with its [`solver_head`],
-/// `CAPACITY` and `OVER_RELAXATION` ([`crate::solver::self_collision`]'s constants).
+/// `CAPACITY`, `KEEP` and `OVER_RELAXATION` ([`crate::solver::self_collision`]'s constants).
 pub fn self_collision() -> String {
-    use crate::solver::self_collision::{CAPACITY, OVER_RELAXATION};
-    let constants = format!("const CAPACITY: u32 = {CAPACITY}u;\nconst OVER_RELAXATION: f32 = {OVER_RELAXATION:?};\n");
+    use crate::solver::self_collision::{CAPACITY, KEEP, OVER_RELAXATION};
+    let constants = format!(
+        "const CAPACITY: u32 = {CAPACITY}u;\nconst KEEP: f32 = {KEEP:?};\nconst OVER_RELAXATION: f32 = {OVER_RELAXATION:?};\n"
+    );
     solver_head(None) + &constants + SELF_COLLISION
 }
 

@@ -2,16 +2,17 @@
 //! of a surface kept at least the thickness `d` apart. The CPU's stages; the GPU's twins are
 //! `shaders/solver/self_collision.wgsl`, step for step.
 //!
-//! Once a substep, after the prediction, the candidates are checked: they hold while no
-//! particle has moved more than a margin `m = MARGIN × thickness` since they were found (beyond
-//! the particles' mean displacement, so two moved at most `2m` towards each other), else a
-//! spatial hash of the particles (counting sort of their cells: count, prefix sum, scatter)
-//! finds them anew: for each particle, every other closer than `r + 2m` with
-//! `r = QUERY × thickness`, in increasing order, at most [`CAPACITY`] (the lowest indices kept;
-//! the others counted as dropped). So every pair closer than `r` now was found, and a cloth
-//! that moves slowly keeps its candidates for many substeps. Left out: pairs whose rest distance
-//! is at most the thickness (neighbours in the mesh, which the cloth's own constraints keep; to
-//! a rounding of 0.1 %) and pairs of two pinned particles.
+//! Once a substep, after the prediction, the candidates are checked ([`broad_phase`]): each
+//! particle keeps a reference position while it stays within a margin `m = MARGIN × thickness`
+//! of it (beyond the particles' mean displacement, so two moved at most `2m` towards each
+//! other); one that strays takes its position as its reference, and its candidates are found
+//! anew by a spatial hash of the references (counting sort of their cells: count, prefix sum,
+//! scatter). Particle `i`'s candidates are every other particle whose reference is closer than
+//! `r + 2m` to its own, `r = QUERY × thickness`, in increasing order, at most [`CAPACITY`] (the
+//! lowest indices kept; the others counted as dropped). So every pair closer than `r` now is a
+//! candidate, and a cloth in which few particles move fast keeps most of its candidates. Left
+//! out: pairs whose rest distance is at most the thickness (neighbours in the mesh, which the
+//! cloth's own constraints keep; to a rounding of 0.1 %) and pairs of two pinned particles.
 //!
 //! Every iteration then projects the candidates Jacobi-style, each particle against the same
 //! iterate: a pair closer than `d` along its axis `n` gives particle `i` the share
@@ -28,14 +29,28 @@
 //! thickness of at least `0.71 s` stops it, and one that passes a particle within a substep is
 //! sent back by the passed-through rule.
 
+mod broad_phase;
+
+pub use broad_phase::{bucket, cell, insert, inv_count, mean_shift};
+
 use crate::math::prelude::*;
 use crate::scene::SelfCollision;
 
 /// The candidates' reach beyond the thickness within a substep, as a multiple of the thickness:
 /// the room a pair has to close during one substep's iterations and still be found.
 pub const QUERY: f32 = 1.25;
-/// How far a particle may move before the pairs are found anew, as a multiple of the thickness.
-pub const MARGIN: f32 = 0.25;
+/// How far a particle may stray from its reference (beyond the particles' mean displacement)
+/// before it takes a new one, as a multiple of the thickness. The reach `r + 2m` sets how many
+/// candidates each pass visits, the margin how often particles stray: at the default thickness
+/// (1.2 grid spacings) 0.125 gives a reach of 1.8 spacings, which leaves out the particles two
+/// spacings apart along the cloth that 0.25 (2.1 spacings) keeps: `cloth-drape` 64 × 64 at
+/// k = 1e6 N/m, 30 × 1, ends with 14,000 candidate pairs against 26,600, for about three times
+/// as many checks that renew references (each finding only the renewed particles' candidates).
+pub const MARGIN: f32 = 0.125;
+/// When a check finds a particle beyond the margin, every particle beyond `KEEP` times the
+/// margin renews its reference too, so that the particles about to stray do not each cost a
+/// check of their own.
+pub const KEEP: f32 = 0.5;
 /// Candidates kept per particle. Within a reach of 1.75 thicknesses a particle between two
 /// layers of cloth a thickness apart finds about 28 others at the default thickness (1.2 grid
 /// spacings) and under 50 at the largest `--thickness` (1.5), so one that finds more is in a
@@ -71,38 +86,6 @@ pub fn neighbour_distance(sc: &SelfCollision) -> f32 {
     sc.thickness * (1.0 + REST_TOLERANCE)
 }
 
-/// The bucket of cell `c` in a table of `size` buckets (a power of two).
-pub fn bucket(c: [i32; 3], size: usize) -> usize {
-    let h = (c[0].wrapping_mul(92837111)) ^ (c[1].wrapping_mul(689287499)) ^ (c[2].wrapping_mul(283923481));
-    (h as u32 as usize) & (size - 1)
-}
-
-/// The hash cell of position `p` for cells of side `1 / inv_r` (m).
-pub fn cell(p: glam::Vec3, inv_r: f32) -> [i32; 3] {
-    let q = p * inv_r;
-    [q.x.floor() as i32, q.y.floor() as i32, q.z.floor() as i32]
-}
-
-/// Inserts `j` into the increasing `list` of `*count` entries (at most [`CAPACITY`]), keeping
-/// the lowest indices; returns `true` when an index was dropped.
-pub fn insert(list: &mut [u32], count: &mut u32, j: u32) -> bool {
-    let c = *count as usize;
-    let full = c == CAPACITY;
-    if full && j >= list[CAPACITY - 1] {
-        return true;
-    }
-    let mut k = if full { CAPACITY - 1 } else { c };
-    while k > 0 && list[k - 1] > j {
-        list[k] = list[k - 1];
-        k -= 1;
-    }
-    list[k] = j;
-    if !full {
-        *count += 1;
-    }
-    full
-}
-
 /// Each particle's candidates this substep, and the hash's scratch.
 #[derive(Clone, Debug, Default)]
 pub struct SelfPairs {
@@ -113,9 +96,15 @@ pub struct SelfPairs {
     start: Vec<u32>,
     /// Particle indices ordered by bucket.
     sorted: Vec<u32>,
+    /// Their references (m) and cells, in the same order.
+    sorted_at: Vec<(glam::Vec3, [i32; 3])>,
     cells: Vec<[i32; 3]>,
-    /// The positions the candidates were found at (m).
+    /// Each particle's reference position (m; [`broad_phase`]).
     at: Vec<glam::Vec3>,
+    /// The particles that strayed at the last check.
+    strayed: Vec<u32>,
+    /// Whether each particle strayed at the last check.
+    is_strayed: Vec<bool>,
     /// Times the candidates have been found.
     builds: u64,
     /// Candidates dropped beyond [`CAPACITY`] at the last finding.
@@ -124,6 +113,11 @@ pub struct SelfPairs {
     touching: Vec<u32>,
     /// Whether each particle moved at least half the thickness in the substep so far.
     fast: Vec<bool>,
+    /// The candidate pairs `(i, j)`, `i < j`, in increasing order ([`SelfPairs::pairs`]), for
+    /// the one-thread pass.
+    flat: Vec<[u32; 2]>,
+    /// The pass's scratch: the pairs close enough or fast enough to look at.
+    active: Vec<[u32; 2]>,
 }
 
 impl SelfPairs {
@@ -154,94 +148,7 @@ impl SelfPairs {
 
     /// The candidate pairs `(i, j)`, `i < j`, in increasing order.
     pub fn pairs(&self) -> Vec<(u32, u32)> {
-        (0..self.counts.len())
-            .flat_map(|i| self.of(i).iter().filter(move |&&j| j as usize > i).map(move |&j| (i as u32, j)))
-            .collect()
-    }
-
-    /// Makes the candidates valid at positions `x`: found anew where some particle has moved
-    /// more than the margin since they were found, not counting the mean displacement (a common
-    /// translation moves no pair closer).
-    pub fn update<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision) {
-        let m = margin(sc);
-        let stale = self.at.len() != x.len() || {
-            let shift: glam::Vec3 =
-                x.iter().zip(&self.at).map(|(p, q)| p.to_vec3() - *q).sum::<glam::Vec3>() / x.len().max(1) as f32;
-            x.iter().zip(&self.at).any(|(p, q)| (p.to_vec3() - *q - shift).length_squared() > m * m)
-        };
-        if stale {
-            self.find(x, w, sc);
-            self.at.clear();
-            self.at.extend(x.iter().map(|p| p.to_vec3()));
-            self.builds += 1;
-        }
-    }
-
-    /// The candidates at positions `x` (the broad phase): for each particle, every other closer
-    /// than [`reach`] that is no mesh neighbour, not both pinned.
-    fn find<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision) {
-        let n = x.len();
-        let size = table_size(n);
-        let r = reach(sc);
-        let inv_r = 1.0 / r;
-        self.cells.clear();
-        self.cells.extend(x.iter().map(|p| cell(p.to_vec3(), inv_r)));
-        // Counting sort by bucket.
-        self.start.clear();
-        self.start.resize(size + 1, 0);
-        for &c in &self.cells {
-            self.start[bucket(c, size) + 1] += 1;
-        }
-        for b in 0..size {
-            self.start[b + 1] += self.start[b];
-        }
-        self.sorted.clear();
-        self.sorted.resize(n, 0);
-        let mut fill = self.start.clone();
-        for (i, &c) in self.cells.iter().enumerate() {
-            let b = bucket(c, size);
-            self.sorted[fill[b] as usize] = i as u32;
-            fill[b] += 1;
-        }
-        self.lists.resize(n * CAPACITY, 0);
-        self.counts.clear();
-        self.counts.resize(n, 0);
-        self.dropped = 0;
-        let (r2, zero) = (r * r, V::S::zero());
-        let neighbour = neighbour_distance(sc);
-        // Each pair once, from its lower index, into both lists: each list ends with the same
-        // lowest indices in increasing order whatever the order they come in.
-        for i in 0..n {
-            let c = self.cells[i];
-            let xi = x[i].to_vec3();
-            for dz in -1..=1 {
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        let cell = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        let b = bucket(cell, size);
-                        // A bucket lists its particles in increasing order: those above `i`.
-                        let bucket = &self.sorted[self.start[b] as usize..self.start[b + 1] as usize];
-                        let above = bucket.partition_point(|&j| j as usize <= i);
-                        for &j in &bucket[above..] {
-                            let ju = j as usize;
-                            // Only in the cell the other particle is in (a bucket holds other
-                            // cells' particles too).
-                            if (xi - x[ju].to_vec3()).length_squared() >= r2
-                                || self.cells[ju] != cell
-                                || (w[i] == zero && w[ju] == zero)
-                                || (sc.rest[i] - sc.rest[ju]).length() <= neighbour
-                            {
-                                continue;
-                            }
-                            for (a, b) in [(i, j), (ju, i as u32)] {
-                                let list = &mut self.lists[a * CAPACITY..][..CAPACITY];
-                                self.dropped += insert(list, &mut self.counts[a], b) as u64;
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        self.flat.iter().map(|&[i, j]| (i, j)).collect()
     }
 
     /// One Jacobi pass over the candidates at positions `x` (substep start `x_prev`, inverse
@@ -252,7 +159,6 @@ impl SelfPairs {
     /// there (negating a vector is exact), so the three agree to the bit.
     pub fn project<V: Vector>(&mut self, x: &mut [V], x_prev: &[V], w: &[V::S], sc: &SelfCollision, dx: &mut Vec<V>) {
         let pass = Pass::new(sc);
-        let n = self.counts.len().min(x.len());
         dx.clear();
         dx.resize(x.len(), V::ZERO);
         self.touching.clear();
@@ -264,25 +170,28 @@ impl SelfPairs {
         let half2 = pass.keep2 * <V::S as From<f32>>::from(0.25);
         self.fast.clear();
         self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
+        // The pairs to look at, written without a branch (whether two particles touch is a
+        // coin toss in a pile, which a branch would mispredict), in order.
+        self.active.clear();
+        self.active.resize(self.flat.len(), [0; 2]);
+        let mut count = 0;
+        for &[i, j] in &self.flat {
+            let (iu, ju) = (i as usize, j as usize);
+            let d = x[iu] - x[ju];
+            self.active[count] = [i, j];
+            count += ((d.dot(d) < pass.keep2) | self.fast[iu] | self.fast[ju]) as usize;
+        }
         let one = V::S::one();
-        for i in 0..n {
-            for &j in &self.lists[i * CAPACITY..][..self.counts[i] as usize] {
-                let j = j as usize;
-                if j <= i {
-                    continue;
-                }
-                let d = x[i] - x[j];
-                if d.dot(d) >= pass.keep2 && !self.fast[i] && !self.fast[j] {
-                    continue;
-                }
-                let Some(c) = pass.contact(d, x_prev[i] - x_prev[j], (x[i] - x_prev[i]) - (x[j] - x_prev[j])) else {
-                    continue;
-                };
-                for (a, b, sign) in [(i, j, one), (j, i, -one)] {
-                    if let Some(m) = c.share(w[a], w[b]) {
-                        dx[a] += m * sign;
-                        self.touching[a] += 1;
-                    }
+        for &[i, j] in &self.active[..count] {
+            let (i, j) = (i as usize, j as usize);
+            let d = x[i] - x[j];
+            let Some(c) = pass.contact(d, x_prev[i] - x_prev[j], (x[i] - x_prev[i]) - (x[j] - x_prev[j])) else {
+                continue;
+            };
+            for (a, b, sign) in [(i, j, one), (j, i, -one)] {
+                if let Some(m) = c.share(w[a], w[b]) {
+                    dx[a] += m * sign;
+                    self.touching[a] += 1;
                 }
             }
         }
@@ -478,20 +387,6 @@ mod tests {
     }
 
     #[test]
-    fn a_full_list_keeps_the_lowest_indices_in_order() {
-        let (mut list, mut count) = ([0u32; CAPACITY], 0u32);
-        let mut dropped = 0;
-        for j in (0..CAPACITY as u32 + 10).rev() {
-            dropped += insert(&mut list, &mut count, 2 * j) as u32;
-        }
-        assert_eq!(count as usize, CAPACITY);
-        assert_eq!(dropped, 10);
-        assert!(list.iter().enumerate().all(|(k, &j)| j == 2 * k as u32), "{list:?}");
-        assert!(insert(&mut list, &mut count, 1000), "beyond the kept ones: dropped");
-        assert!(insert(&mut list, &mut count, 1) && list[1] == 1 && list[CAPACITY - 1] == 2 * (CAPACITY as u32 - 2));
-    }
-
-    #[test]
     fn a_close_pair_is_pushed_to_the_thickness_by_inverse_mass() {
         let sc = SelfCollision { thickness: 0.1, friction: 0.0, rest: vec![Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0)] };
         let mut x = vec![Vec3A::ZERO, Vec3A::new(0.04, 0.0, 0.0)];
@@ -504,14 +399,15 @@ mod tests {
         assert!((x[0].distance(x[1]) - 0.1).abs() < 1e-6);
         // The lighter particle (w = 3) moves three times as far.
         assert!((x[0].x + 0.015).abs() < 1e-6 && (x[1].x - 0.085).abs() < 1e-6, "{x:?}");
-        // The push moved the particles 0.03 m apart beyond their mean shift (margin 0.025 m):
-        // found anew; then they stand until one strays that far from the mean shift again.
-        pairs.update(&x, &w, &sc);
-        assert_eq!(pairs.builds(), 2);
-        x[1].x += 0.04;
+        // The push moved each particle 0.03 m from the mean shift (margin 0.0125 m): both renew
+        // their references; then they stand until one strays that far from the mean shift
+        // again (moving one by 2 cm strays each by 1 cm from the mean shift, by 3 cm 1.5 cm).
         pairs.update(&x, &w, &sc);
         assert_eq!(pairs.builds(), 2);
         x[1].x += 0.02;
+        pairs.update(&x, &w, &sc);
+        assert_eq!(pairs.builds(), 2);
+        x[1].x += 0.01;
         pairs.update(&x, &w, &sc);
         assert_eq!(pairs.builds(), 3);
     }

@@ -10,7 +10,7 @@ use super::{GpuSolver, entry, groups, read_buffer, storage_buffer};
 use crate::error::Result;
 use crate::gpu::kernels::Kernels;
 use crate::scene::SelfCollision;
-use crate::solver::self_collision::{CAPACITY, margin, neighbour_distance, reach, table_size};
+use crate::solver::self_collision::{CAPACITY, inv_count, margin, neighbour_distance, reach, table_size};
 
 /// The self-collision's candidates read back from the GPU, the twin of
 /// [`crate::solver::self_collision::SelfPairs`]'s.
@@ -43,7 +43,7 @@ struct SelfParams {
     margin2: f32,
     neighbour: f32,
     table_size: u32,
-    pad: u32,
+    inv_n: f32,
 }
 
 /// The self-collision's state on the GPU: its parameters, points (rest positions, the
@@ -74,7 +74,7 @@ impl SelfBuffers {
             margin2: m * m,
             neighbour: neighbour_distance(sc),
             table_size: size as u32,
-            pad: 0,
+            inv_n: inv_count(n),
         };
         let params = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("self-collision params"),

@@ -167,6 +167,19 @@ impl GpuSolver {
         self.queue.submit([encoder.finish()]);
     }
 
+    /// Overwrites the positions (m), one per particle, keeping everything else, the
+    /// self-collision's references and candidates included: the next check renews the references
+    /// of the particles that strayed, as after any motion.
+    pub fn overwrite_positions(&mut self, x: &[Vec3]) -> Result<()> {
+        let n = self.n as usize;
+        if x.len() != n {
+            return Err(Error::Gpu(format!("{} positions for {n} particles", x.len())));
+        }
+        let with_w: Vec<Vec4> = x.iter().zip(&self.scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
+        self.queue.write_buffer(&self.x, 0, bytemuck::cast_slice(&with_w));
+        Ok(())
+    }
+
     /// Overwrites the positions, the substep's start positions, the velocities (each particle
     /// keeps its dissipated work) and the multipliers (per family in solve order, as
     /// [`crate::solver::CpuSolver::lambdas`] gives them): another solver's state, for the
