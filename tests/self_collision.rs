@@ -139,9 +139,9 @@ fn state(cpu: &CpuSolver<Vec3A>) -> [Vec<Vec3>; 3] {
     [&p.x, &p.x_prev, &p.v].map(|v| v.iter().map(|&q| q.into()).collect())
 }
 
-#[test]
-fn the_gpu_finds_the_cpus_candidates_and_projects_them_alike() {
-    let (ctx, kernels) = common::gpu();
+/// A 21 × 21 `cloth-drape` landing in folds (45 frames at 10 × 3 on the CPU): its scene,
+/// self-collision, settings and solver.
+fn landing_drape() -> (Scene, SelfCollision, Settings, CpuSolver<Vec3A>) {
     let opts = SceneOptions { resolution: Some(21), ..SceneOptions::default() };
     let scene = scene::build("cloth-drape", &opts).unwrap();
     let sc = scene.self_collision.clone().unwrap();
@@ -150,6 +150,13 @@ fn the_gpu_finds_the_cpus_candidates_and_projects_them_alike() {
     for _ in 0..45 {
         cpu.step_frame(&s);
     }
+    (scene, sc, s, cpu)
+}
+
+#[test]
+fn the_gpu_finds_the_cpus_candidates_and_projects_them_alike() {
+    let (ctx, kernels) = common::gpu();
+    let (scene, sc, s, cpu) = landing_drape();
     // The cloth is landing in folds; a fresh solver finds its candidates anew after the next
     // prediction, as the GPU does once its state is overwritten.
     let mut fresh = CpuSolver::<Vec3A>::new(scene.clone());
@@ -192,14 +199,7 @@ fn references_renewed_on_either_backend_give_the_same_candidates() {
     // the others within it: the CPU finds only the renewed particles' candidates, the GPU all of
     // them again, from references that agree to the bit.
     let (ctx, kernels) = common::gpu();
-    let opts = SceneOptions { resolution: Some(21), ..SceneOptions::default() };
-    let scene = scene::build("cloth-drape", &opts).unwrap();
-    let sc = scene.self_collision.clone().unwrap();
-    let s = Settings { substeps: 10, iterations: 3, threads: 1, ..Settings::default() };
-    let mut cpu = CpuSolver::<Vec3A>::new(scene.clone());
-    for _ in 0..45 {
-        cpu.step_frame(&s);
-    }
+    let (scene, sc, s, cpu) = landing_drape();
     let [x, x_prev, v] = state(&cpu);
     let mut gpu = GpuSolver::new(kernels, &ctx.device, &ctx.queue, scene).unwrap();
     gpu.set_state(&x, &x_prev, &v, cpu.lambdas()).unwrap();

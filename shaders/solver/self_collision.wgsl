@@ -61,6 +61,12 @@ fn bucket_of(c: vec3<i32>) -> u32 {
 var<workgroup> stale_flag: u32;
 var<workgroup> run_sums: array<u32, 64>;
 
+// How far particle i is from its reference beyond the mean displacement `shift`, squared (m²).
+fn strayed2(i: u32, n: u32, shift: vec3<f32>) -> f32 {
+    let d = x[i].xyz - points[n + i].xyz - shift;
+    return dot(d, d);
+}
+
 // One workgroup: the particles' mean displacement from their references, T (summed as
 // broad_phase::mean_shift does). When some particle strayed more than the margin beyond it,
 // every particle beyond KEEP times the margin takes x − T as its reference, and the candidates
@@ -77,8 +83,7 @@ fn self_check(@builtin(local_invocation_id) lid3: vec3<u32>) {
     let shift = reduce_workgroup(lid, vec4<f32>(sum, 0.0)).xyz * sp.inv_n;
     var far = 0.0;
     for (var i = lid; i < n; i += 64u) {
-        let d = x[i].xyz - points[n + i].xyz - shift;
-        if (dot(d, d) > sp.margin2) {
+        if (strayed2(i, n, shift) > sp.margin2) {
             far = 1.0;
         }
     }
@@ -92,8 +97,7 @@ fn self_check(@builtin(local_invocation_id) lid3: vec3<u32>) {
     } else if (strayed) {
         let renew2 = sp.margin2 * (KEEP * KEEP);
         for (var i = lid; i < n; i += 64u) {
-            let d = x[i].xyz - points[n + i].xyz - shift;
-            if (dot(d, d) > renew2) {
+            if (strayed2(i, n, shift) > renew2) {
                 points[n + i] = vec4<f32>(x[i].xyz - shift, 0.0);
             }
         }

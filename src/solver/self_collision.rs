@@ -398,15 +398,15 @@ mod tests {
         assert!((x[0].distance(x[1]) - 0.1).abs() < 1e-6);
         // The lighter particle (w = 3) moves three times as far.
         assert!((x[0].x + 0.015).abs() < 1e-6 && (x[1].x - 0.085).abs() < 1e-6, "{x:?}");
-        // The push moved each particle 0.03 m from the mean shift (margin 0.0125 m): both renew
+        // The push moved each particle 0.03 m from the mean shift (margin 0.025 m): both renew
         // their references; then they stand until one strays that far from the mean shift
-        // again (moving one by 2 cm strays each by 1 cm from the mean shift, by 3 cm 1.5 cm).
+        // again (moving one by 4 cm strays each by 2 cm from the mean shift, by 6 cm 3 cm).
+        pairs.update(&x, &w, &sc);
+        assert_eq!(pairs.builds(), 2);
+        x[1].x += 0.04;
         pairs.update(&x, &w, &sc);
         assert_eq!(pairs.builds(), 2);
         x[1].x += 0.02;
-        pairs.update(&x, &w, &sc);
-        assert_eq!(pairs.builds(), 2);
-        x[1].x += 0.01;
         pairs.update(&x, &w, &sc);
         assert_eq!(pairs.builds(), 3);
     }

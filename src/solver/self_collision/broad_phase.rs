@@ -130,15 +130,15 @@ impl SelfPairs {
         let m = margin(sc);
         let shift = mean_shift(x, &self.at, inv_count(x.len()));
         self.strayed.clear();
-        let far = x.iter().zip(&self.at).any(|(p, a)| {
+        // How far a particle is from its reference beyond the shift, squared (m²).
+        let strayed2 = |p: &V, a: &glam::Vec3| {
             let d = p.to_vec3() - *a - shift;
-            d.dot(d) > m * m
-        });
-        if far {
+            d.dot(d)
+        };
+        if x.iter().zip(&self.at).any(|(p, a)| strayed2(p, a) > m * m) {
             let k = m * m * (KEEP * KEEP);
             for (i, (p, a)) in x.iter().zip(self.at.iter_mut()).enumerate() {
-                let d = p.to_vec3() - *a - shift;
-                if d.dot(d) > k {
+                if strayed2(p, a) > k {
                     *a = p.to_vec3() - shift;
                     self.strayed.push(i as u32);
                 }
