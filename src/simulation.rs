@@ -110,7 +110,7 @@ impl Simulation {
 pub struct SelfCollisionCounts {
     /// Candidate pairs now.
     pub pairs: usize,
-    /// Times the candidates were found.
+    /// Checks that renewed references and searched candidates anew (the first included).
     pub builds: u64,
     /// Candidates dropped at the last finding beyond
     /// [`crate::solver::self_collision::CAPACITY`] per particle.

@@ -132,7 +132,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     );
     if let Some(sc) = sim.self_collision_counts()? {
         say!(
-            "self-collision: {} candidate pairs, found {} times ({:.2} a frame), {} dropped at the last finding",
+            "self-collision: {} candidate pairs, references renewed at {} checks ({:.2} a frame), {} candidates dropped at the last search",
             sc.pairs,
             sc.builds,
             sc.builds as f64 / a.frames.max(1) as f64,

@@ -104,7 +104,7 @@ pub struct SelfPairs {
     strayed: Vec<u32>,
     /// Whether each particle strayed at the last check.
     is_strayed: Vec<bool>,
-    /// Times the candidates have been found.
+    /// Checks that renewed references (the first included).
     builds: u64,
     /// Candidates dropped beyond [`CAPACITY`] at the last finding.
     dropped: u64,
@@ -130,7 +130,7 @@ impl SelfPairs {
         self.counts.iter().all(|&c| c == 0)
     }
 
-    /// Times the candidates have been found (the broad phase's runs).
+    /// Checks that renewed references and searched candidates anew (the first included).
     pub fn builds(&self) -> u64 {
         self.builds
     }

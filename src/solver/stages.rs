@@ -43,8 +43,8 @@ pub enum Stage {
     /// One Jacobi iteration: every family's scaled corrections against the same iterate, then
     /// each particle adds up its own.
     Jacobi,
-    /// The self-collision's candidate pairs at the predicted positions
-    /// ([`crate::scene::SelfCollision`]).
+    /// The self-collision's check of its references at the predicted positions, renewing those
+    /// that strayed and their candidate pairs ([`crate::scene::SelfCollision`]).
     SelfPairs,
     /// The self-collision's projection of its candidate pairs (every iteration, after the
     /// sweeps).

@@ -22,7 +22,7 @@ pub struct GpuSelfPairs {
     /// Candidates dropped at the last finding beyond
     /// [`crate::solver::self_collision::CAPACITY`] per particle.
     pub dropped: u64,
-    /// Times the candidates have been found.
+    /// Checks that renewed references and searched the candidates anew (the first included).
     pub builds: u64,
 }
 
