@@ -128,6 +128,9 @@ impl Session {
     /// Builds the scene `state` chooses on `ctx`'s device, drawn into targets of `format` with
     /// `samples` samples per pixel.
     pub fn new(ctx: &GpuContext, format: wgpu::TextureFormat, samples: u32, state: ViewerState) -> Result<Self> {
+        // In a browser wgpu's handles are neither Send nor Sync, and everything runs on one
+        // thread, where an Arc costs nothing more than an Rc.
+        #[cfg_attr(target_arch = "wasm32", allow(clippy::arc_with_non_send_sync))]
         let kernels = Arc::new(Kernels::new(&ctx.device));
         let renderer = Renderer::new(&ctx.device, format, samples);
         let scene = scene::build(state.choice.name(), &state.choice.options()?)?;
