@@ -29,7 +29,7 @@
 //! thickness of at least `0.71 s` stops it, and one that passes a particle within a substep is
 //! sent back by the passed-through rule.
 
-mod broad_phase;
+pub mod broad_phase;
 
 pub use broad_phase::{bucket, cell, insert, inv_count, mean_shift};
 
@@ -115,8 +115,6 @@ pub struct SelfPairs {
     /// The candidate pairs `(i, j)`, `i < j`, in increasing order ([`SelfPairs::pairs`]), for
     /// the one-thread pass.
     flat: Vec<[u32; 2]>,
-    /// The pass's scratch: the pairs close enough or fast enough to look at.
-    active: Vec<[u32; 2]>,
 }
 
 impl SelfPairs {
@@ -169,21 +167,13 @@ impl SelfPairs {
         let half2 = pass.keep2 * <V::S as From<f32>>::from(0.25);
         self.fast.clear();
         self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
-        // The pairs to look at, written without a branch (whether two particles touch is a
-        // coin toss in a pile, which a branch would mispredict), in order.
-        self.active.clear();
-        self.active.resize(self.flat.len(), [0; 2]);
-        let mut count = 0;
-        for &[i, j] in &self.flat {
-            let (iu, ju) = (i as usize, j as usize);
-            let d = x[iu] - x[ju];
-            self.active[count] = [i, j];
-            count += ((d.dot(d) < pass.keep2) | self.fast[iu] | self.fast[ju]) as usize;
-        }
         let one = V::S::one();
-        for &[i, j] in &self.active[..count] {
+        for &[i, j] in &self.flat {
             let (i, j) = (i as usize, j as usize);
             let d = x[i] - x[j];
+            if d.dot(d) >= pass.keep2 && !self.fast[i] && !self.fast[j] {
+                continue;
+            }
             let Some(c) = pass.contact(d, x_prev[i] - x_prev[j], (x[i] - x_prev[i]) - (x[j] - x_prev[j])) else {
                 continue;
             };
