@@ -4,13 +4,14 @@
 //!
 //! The candidates are a function of the references alone: particle `i`'s are every `j` with
 //! `|a_i − a_j| < r + 2m` (no mesh neighbour, not both pinned), the lowest [`CAPACITY`] kept.
-//! A check computes the particles' mean displacement from their references `T` and gives every
-//! particle that strayed, `|x_i − a_i − T| > m`, the reference `a_i = x_i − T`. Every particle
-//! is then within `m` of its reference shifted by `T`, so two particles closer than `r` have
-//! references closer than `r + 2m`: every pair that can touch within the substep is a candidate.
-//! Only the particles that strayed change their candidates, so one thread looks up just their
-//! cells (and those of their new partners' lists), where finding every particle's takes the
-//! whole table; the GPU finds them all again (one invocation per particle), the same lists.
+//! A check computes the particles' mean displacement from their references `T`; when some
+//! particle strayed, `|x_i − a_i − T| > m`, every particle beyond [`KEEP`] times the margin
+//! takes the reference `a_i = x_i − T`. Every particle is then within `m` of its reference
+//! shifted by `T`, so two particles closer than `r` have references closer than `r + 2m`: every
+//! pair that can touch within the substep is a candidate. Only the renewed particles change
+//! their candidates, so one thread looks up just their cells (and edits their partners' lists),
+//! where finding every particle's takes the whole table; the GPU finds them all again (one
+//! invocation per particle), the same lists.
 //! `T` is summed in the GPU's order and scaled by the same `1/n`, and every other step is one
 //! correctly rounded operation, so the references agree to the bit on both backends.
 
@@ -115,10 +116,11 @@ fn remove(list: &mut [u32], count: &mut u32, j: u32) {
 }
 
 impl SelfPairs {
-    /// Makes the candidates valid at positions `x` (inverse masses `w`): the references of the
-    /// particles that strayed more than the margin from them (beyond the particles' mean
-    /// displacement, [`mean_shift`]) move to their positions, and their candidates are found
-    /// anew (everyone's at the first call).
+    /// Makes the candidates valid at positions `x` (inverse masses `w`): when some particle
+    /// strayed more than the margin from its reference (beyond the particles' mean
+    /// displacement, [`mean_shift`]), the references of every particle beyond [`KEEP`] times
+    /// the margin move to their positions, and their candidates are found anew (everyone's at
+    /// the first call).
     pub fn update<V: Vector>(&mut self, x: &[V], w: &[V::S], sc: &SelfCollision) {
         if self.at.len() != x.len() {
             self.at.clear();
