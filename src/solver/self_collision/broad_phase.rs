@@ -22,19 +22,29 @@ use crate::scene::SelfCollision;
 /// Lanes of the GPU's check (`self_check`'s workgroup): lane `l` sums particles `l, l + 64, …`.
 const LANES: usize = 64;
 
-/// The cells searched from a particle's: its own first, then half of the 26 around it, those
-/// after it in (z, y, x) order; the other half finds the particle from theirs.
-const STENCIL: [[i32; 3]; 14] = {
-    let mut s = [[0; 3]; 14];
-    let mut k = 1;
-    while k < 14 {
+/// The 27 cells around a particle's, as offsets: its own first, then the 13 after it in
+/// (z, y, x) order, then the 13 before. The first 14 are the whole search's stencil: the other
+/// half finds the particle from theirs.
+const AROUND: [[i32; 3]; 27] = {
+    let mut s = [[0; 3]; 27];
+    let mut k = 0;
+    while k < 27 {
         // The cell at linear index `o` of the 3 × 3 × 3 block around (13 in its middle).
-        let o = 13 + k as i32;
+        let o = (13 + k as i32) % 27;
         s[k] = [o % 3 - 1, o / 3 % 3 - 1, o / 9 - 1];
         k += 1;
     }
     s
 };
+
+/// The whole search's cells ([`AROUND`]'s first 14).
+const STENCIL: &[[i32; 3]] = AROUND.split_at(14).0;
+
+/// The squared reach (m²) and the rest distance of mesh neighbours (m).
+fn limits(sc: &SelfCollision) -> (f32, f32) {
+    let r = reach(sc);
+    (r * r, neighbour_distance(sc))
+}
 
 /// The bucket of cell `c` in a table of `size` buckets (a power of two).
 pub fn bucket(c: [i32; 3], size: usize) -> usize {
@@ -212,8 +222,7 @@ impl SelfPairs {
         self.counts.clear();
         self.counts.resize(n, 0);
         self.dropped = 0;
-        let r = reach(sc);
-        let (r2, neighbour) = (r * r, neighbour_distance(sc));
+        let (r2, neighbour) = limits(sc);
         // Each pair once, into both lists (each list ends with the same lowest indices in
         // increasing order whatever the order they come in): from each particle, its own cell
         // for the particles above it, and half of the 26 cells around it (the other half finds
@@ -226,7 +235,7 @@ impl SelfPairs {
             let (a_i, c) = self.sorted_at[k];
             if last != Some(c) {
                 last = Some(c);
-                for (run, d) in runs.iter_mut().zip(&STENCIL) {
+                for (run, d) in runs.iter_mut().zip(STENCIL) {
                     let cell = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
                     let b = bucket(cell, size);
                     *run = (cell, (self.start[b] as usize, self.start[b + 1] as usize));
@@ -280,37 +289,32 @@ impl SelfPairs {
         for &i in &self.strayed {
             self.counts[i as usize] = 0;
         }
-        let r = reach(sc);
-        let (r2, neighbour) = (r * r, neighbour_distance(sc));
+        let (r2, neighbour) = limits(sc);
         // A pair of two strayed particles once, from the lower index.
         for &i in &self.strayed {
             let i = i as usize;
             let (a_i, c) = (self.at[i], self.cells[i]);
-            for dz in -1..=1 {
-                for dy in -1..=1 {
-                    for dx in -1..=1 {
-                        let cell = [c[0] + dx, c[1] + dy, c[2] + dz];
-                        let b = bucket(cell, size);
-                        let (from, to) = (self.start[b] as usize, self.start[b + 1] as usize);
-                        for (&j, &(a_j, cell_j)) in self.sorted[from..to].iter().zip(&self.sorted_at[from..to]) {
-                            let ju = j as usize;
-                            if ju == i
-                                || (self.is_strayed[ju] && ju < i)
-                                || !Self::pairs_up(sc, (i, ju), (a_i, a_j), (cell_j, cell), w, r2, neighbour)
-                            {
-                                continue;
-                            }
-                            let mine = push(&mut self.lists[i * CAPACITY..][..CAPACITY], &mut self.counts[i], j);
-                            let theirs = &mut self.lists[ju * CAPACITY..][..CAPACITY];
-                            let other = if self.is_strayed[ju] {
-                                push(theirs, &mut self.counts[ju], i as u32)
-                            } else {
-                                insert(theirs, &mut self.counts[ju], i as u32)
-                            };
-                            if mine || other {
-                                return false;
-                            }
-                        }
+            for d in &AROUND {
+                let cell = [c[0] + d[0], c[1] + d[1], c[2] + d[2]];
+                let b = bucket(cell, size);
+                let (from, to) = (self.start[b] as usize, self.start[b + 1] as usize);
+                for (&j, &(a_j, cell_j)) in self.sorted[from..to].iter().zip(&self.sorted_at[from..to]) {
+                    let ju = j as usize;
+                    if ju == i
+                        || (self.is_strayed[ju] && ju < i)
+                        || !Self::pairs_up(sc, (i, ju), (a_i, a_j), (cell_j, cell), w, r2, neighbour)
+                    {
+                        continue;
+                    }
+                    let mine = push(&mut self.lists[i * CAPACITY..][..CAPACITY], &mut self.counts[i], j);
+                    let theirs = &mut self.lists[ju * CAPACITY..][..CAPACITY];
+                    let other = if self.is_strayed[ju] {
+                        push(theirs, &mut self.counts[ju], i as u32)
+                    } else {
+                        insert(theirs, &mut self.counts[ju], i as u32)
+                    };
+                    if mine || other {
+                        return false;
                     }
                 }
             }
