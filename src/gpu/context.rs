@@ -27,6 +27,12 @@ impl GpuContext {
 
     /// Opens a device on a chosen adapter.
     pub fn with_adapter(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self> {
+        pollster::block_on(Self::open_device(instance, adapter))
+    }
+
+    /// Opens a device on a chosen adapter without blocking (a browser answers only after the
+    /// page's script has returned to it).
+    pub async fn open_device(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<Self> {
         // Jacobi in the local energy-aware mode binds 10 storage buffers in one stage; ask for
         // up to 16 where the adapter has them (lavapipe and desktop GPUs do).
         let mut required_limits = wgpu::Limits::default().using_resolution(adapter.limits());
@@ -39,15 +45,19 @@ impl GpuContext {
             adapter.features() & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
         let desc =
             wgpu::DeviceDescriptor { label: Some("eapbd"), required_limits, required_features, ..Default::default() };
-        let (device, queue) = pollster::block_on(adapter.request_device(&desc))
+        let (device, queue) = adapter
+            .request_device(&desc)
+            .await
             .map_err(|e| Error::Gpu(format!("cannot open a device on {}: {e}", adapter.get_info().name)))?;
         Ok(GpuContext { instance, adapter, device, queue })
     }
 
-    /// Adapter name and backend, for reports.
+    /// Adapter name and backend, for reports ("unnamed adapter" where the name is withheld, as
+    /// browsers do).
     pub fn describe(&self) -> String {
         let info = self.adapter.get_info();
-        format!("{} ({:?}, {:?})", info.name, info.backend, info.device_type)
+        let name = if info.name.is_empty() { "unnamed adapter" } else { info.name.as_str() };
+        format!("{name} ({:?}, {:?})", info.backend, info.device_type)
     }
 
     /// Blocks until the queue is idle.

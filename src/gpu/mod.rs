@@ -16,5 +16,5 @@ pub use kernels::{
 };
 pub use layout::{DispatchRange, GpuLedger, GpuProjection, GpuSphere, SimParams};
 pub use memory::GpuMemory;
-pub use readback::{map_and_copy, read_buffer};
+pub use readback::{map_and_copy, pod_vec, read_buffer};
 pub use solver::{GpuEnergies, GpuSelfPairs, GpuSolver, GpuState};

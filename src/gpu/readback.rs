@@ -17,6 +17,15 @@ pub fn read_buffer<T: bytemuck::Pod>(device: &wgpu::Device, queue: &wgpu::Queue,
     map_and_copy(device, &staging)
 }
 
+/// The `T`s in `bytes`, whatever their alignment (in a browser a mapped range is a copy aligned
+/// to a byte); a partial last element is left out.
+pub fn pod_vec<T: bytemuck::Pod>(bytes: &[u8]) -> Vec<T> {
+    let mut out = vec![T::zeroed(); bytes.len() / size_of::<T>()];
+    let n = out.len() * size_of::<T>();
+    bytemuck::cast_slice_mut::<T, u8>(&mut out).copy_from_slice(&bytes[..n]);
+    out
+}
+
 /// Maps a `MAP_READ` buffer and copies its contents out.
 pub fn map_and_copy<T: bytemuck::Pod>(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<T>> {
     let (tx, rx) = std::sync::mpsc::channel();
@@ -28,7 +37,7 @@ pub fn map_and_copy<T: bytemuck::Pod>(device: &wgpu::Device, staging: &wgpu::Buf
         .map_err(|_| Error::Gpu("readback: the map callback never ran".into()))?
         .map_err(|e| Error::Gpu(format!("readback map: {e}")))?;
     let view = staging.get_mapped_range(..).map_err(|e| Error::Gpu(format!("readback range: {e}")))?;
-    let out = bytemuck::cast_slice(&view).to_vec();
+    let out = pod_vec(&view);
     drop(view);
     staging.unmap();
     Ok(out)

@@ -1,5 +1,5 @@
 //! The window's render targets (multisampled colour and depth, resolved into the surface) and
-//! the capture of a frame for `--screenshot`.
+//! the copy of a captured frame (`--screenshot`; in a web page, the frame it posts).
 
 use crate::error::{Error, Result};
 use crate::render::{DEPTH_FORMAT, FrameViews, texture};
@@ -44,15 +44,25 @@ impl FrameTargets {
     }
 }
 
-/// Copies a 4-byte-per-pixel texture back as RGBA (BGRA formats are swizzled).
-pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<image::RgbaImage> {
+/// A texture copied into a mappable buffer, its rows padded to wgpu's alignment.
+#[derive(Debug)]
+pub struct TextureCopy {
+    /// The buffer to map (`padded × height` bytes).
+    pub buffer: wgpu::Buffer,
+    width: u32,
+    height: u32,
+    padded: u32,
+    bgra: bool,
+}
+
+/// Records and submits the copy of a 4-byte-per-pixel texture into a buffer to map.
+pub fn copy_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<TextureCopy> {
     let (width, height) = (texture.width(), texture.height());
     let format = texture.format();
     if format.block_copy_size(None) != Some(4) {
         return Err(Error::Unsupported(format!("capturing a {format:?} surface")));
     }
-    let row = width * 4;
-    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("capture readback"),
         size: padded as u64 * height as u64,
@@ -69,16 +79,22 @@ pub fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::
         wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
     );
     queue.submit([enc.finish()]);
-    let bytes: Vec<u8> = crate::gpu::map_and_copy(device, &buffer)?;
     let bgra = matches!(format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb);
-    let mut pixels = Vec::with_capacity((row * height) as usize);
-    for r in 0..height as usize {
-        let line = &bytes[r * padded as usize..r * padded as usize + row as usize];
-        for px in line.chunks_exact(4) {
-            let [a, b, c, d] = [px[0], px[1], px[2], px[3]];
-            pixels.extend_from_slice(&if bgra { [c, b, a, 255] } else { [a, b, c, 255] });
-            let _ = d;
+    Ok(TextureCopy { buffer, width, height, padded, bgra })
+}
+
+impl TextureCopy {
+    /// The image in the mapped `bytes` as RGBA (BGRA formats swizzled), opaque.
+    pub fn image(&self, bytes: &[u8]) -> Result<image::RgbaImage> {
+        let (row, padded) = (self.width as usize * 4, self.padded as usize);
+        let mut pixels = Vec::with_capacity(row * self.height as usize);
+        for line in bytes.chunks_exact(padded).take(self.height as usize) {
+            for px in line[..row].chunks_exact(4) {
+                let [a, b, c] = [px[0], px[1], px[2]];
+                pixels.extend_from_slice(&if self.bgra { [c, b, a, 255] } else { [a, b, c, 255] });
+            }
         }
+        image::RgbaImage::from_raw(self.width, self.height, pixels)
+            .ok_or_else(|| Error::Gpu("image size mismatch".into()))
     }
-    image::RgbaImage::from_raw(width, height, pixels).ok_or_else(|| Error::Gpu("image size mismatch".into()))
 }

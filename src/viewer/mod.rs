@@ -20,6 +20,8 @@ pub mod strain;
 pub mod twin;
 pub mod ui;
 pub mod ui_cache;
+#[cfg(target_arch = "wasm32")]
+mod web;
 
 pub use app::{ViewerOptions, run};
 pub use readback::{Snapshot, StatsReadback};

@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::{Vec3, Vec4};
 
-use crate::gpu::GpuSolver;
+use crate::gpu::{GpuSolver, pod_vec};
 use crate::metrics::{FrameStats, StateView};
 use crate::scene::FAMILY_COUNT;
 use crate::solver::{Settings, StepConstants};
@@ -28,6 +28,8 @@ pub struct Snapshot {
     pub stats: FrameStats,
     /// Positions of the copied frame (m).
     pub positions: Vec<Vec3>,
+    /// Velocities of the copied frame (m/s).
+    pub velocities: Vec<Vec3>,
     /// GPU time of the frame's solver commands (ms), where the device has timestamps.
     pub gpu_ms: Option<f64>,
 }
@@ -148,14 +150,14 @@ impl StatsReadback {
         for (slot, b) in &self.staging {
             if ok && let Ok(view) = b.get_mapped_range(..) {
                 match *slot {
-                    Slot::Positions => x = bytemuck::cast_slice(&view).to_vec(),
-                    Slot::Velocities => v = bytemuck::cast_slice(&view).to_vec(),
+                    Slot::Positions => x = pod_vec(&view),
+                    Slot::Velocities => v = pod_vec(&view),
                     Slot::Lambda(i, len) => {
-                        let mut l: Vec<f32> = bytemuck::cast_slice(&view).to_vec();
+                        let mut l: Vec<f32> = pod_vec(&view);
                         l.truncate(len as usize);
                         lambdas[i] = l;
                     }
-                    Slot::Timestamps => ticks = bytemuck::cast_slice(&view).to_vec(),
+                    Slot::Timestamps => ticks = pod_vec(&view),
                 }
             }
             b.unmap();
@@ -183,6 +185,6 @@ impl StatsReadback {
             [t0, t1, ..] if t1 >= t0 && *t0 > 0 => Some((t1 - t0) as f64 * self.timestamp_period_ns as f64 * 1e-6),
             _ => None,
         };
-        Some(Snapshot { stats, positions, gpu_ms })
+        Some(Snapshot { stats, positions, velocities, gpu_ms })
     }
 }

@@ -4,7 +4,7 @@
 //! records the drawing into the caller's encoder. Windows and tests drive it the same way.
 
 use std::sync::Arc;
-use std::time::Instant;
+use web_time::Instant;
 
 use glam::{Vec2, Vec3, Vec4};
 
@@ -114,6 +114,9 @@ pub struct Session {
     pub last_settings: Option<Settings>,
     /// The latest statistics.
     pub stats: Option<FrameStats>,
+    /// The GPU backend's latest snapshot: positions (m) and velocities (m/s), a frame or two
+    /// old; what a browser picks and carries from, where nothing may wait for the device.
+    latest: Option<(Vec<Vec3>, Vec<Vec3>)>,
     /// Recent statistics for the plots.
     pub history: History,
     /// Timings.
@@ -178,6 +181,7 @@ impl Session {
             frame: 0,
             last_settings: None,
             stats: None,
+            latest: None,
             history: History::default(),
             timings: Timings::default(),
             energy_scale: 0.0,
@@ -250,8 +254,10 @@ impl Session {
             g.release(&mut self.sim, &self.queue);
         }
         let mut sim = Simulation::new(backend, scene, Some((ctx, &self.kernels)))?;
+        // The old scene's snapshot; a browser carries its state from it.
+        let latest = self.latest.take().filter(|_| cfg!(target_arch = "wasm32"));
         if same_mesh {
-            transfer(&self.sim, &mut sim, ctx)?;
+            transfer(&self.sim, &mut sim, ctx, latest)?;
         } else {
             self.frame = 0;
             self.history.clear();
@@ -392,6 +398,16 @@ impl Session {
         self.view.encode(&self.renderer, encoder, views);
     }
 
+    /// Records the drawing of the current state again (no step) over the whole of targets of
+    /// `size` pixels, as the frame alone would be drawn without the panels.
+    pub fn encode_scene_whole(&mut self, encoder: &mut wgpu::CommandEncoder, views: FrameViews<'_>, size: [u32; 2]) {
+        let [w, h] = size.map(|v| v.max(1));
+        self.view.viewport = Some([0.0, 0.0, w as f32, h as f32]);
+        self.view.clear = true;
+        self.view.update_camera(&self.queue, w, h);
+        self.view.encode(&self.renderer, encoder, views);
+    }
+
     /// The state the panels edit and what the statistics panel shows, borrowed together.
     pub fn ui_parts(&mut self) -> (&mut ViewerState, super::ui::StatsView<'_>) {
         let stats = super::ui::StatsView {
@@ -478,9 +494,19 @@ impl Session {
         }
         self.history.push(Sample::from(&snap.stats));
         self.stats = Some(snap.stats);
+        self.latest = Some((snap.positions, snap.velocities));
         if let Some(e) = energy {
             self.write_energy_colors(&e);
         }
+    }
+
+    /// The current positions (m): read back from the GPU at once, except in a browser, where
+    /// nothing may wait for the device: there the latest snapshot's.
+    fn current_positions(&self) -> Option<Vec<Vec3>> {
+        if cfg!(target_arch = "wasm32") && matches!(self.sim, Simulation::Gpu(_)) {
+            return self.latest.as_ref().map(|(x, _)| x.clone());
+        }
+        self.sim.positions().ok()
     }
 
     /// Tries to grab the particle under `pixel` of a view of `size` pixels; `true` on a hit.
@@ -488,7 +514,7 @@ impl Session {
     pub fn grab_at(&mut self, pixel: Vec2, size: Vec2) -> bool {
         let aspect = size.x / size.y.max(1.0);
         let Some(ray) = Ray::through_pixel(self.orbit.view_proj(aspect), pixel, size) else { return false };
-        let Ok(x) = self.sim.positions() else { return false };
+        let Some(x) = self.current_positions() else { return false };
         let Some((i, _)) = pick(&ray, &x, &self.sim.scene().triangles) else { return false };
         let inv_mass = match &self.sim {
             Simulation::Cpu(c) => c.particles.w[i as usize],
@@ -546,8 +572,14 @@ struct DrawData {
     readback: Option<StatsReadback>,
 }
 
-/// Carries positions and velocities from `old` to `new` (same particles).
-fn transfer(old: &Simulation, new: &mut Simulation, ctx: &GpuContext) -> Result<()> {
+/// Carries positions and velocities from `old` to `new` (same particles); from the GPU to the
+/// CPU, those of `latest` where given (a snapshot: a browser cannot wait for a read-back).
+fn transfer(
+    old: &Simulation,
+    new: &mut Simulation,
+    ctx: &GpuContext,
+    latest: Option<(Vec<Vec3>, Vec<Vec3>)>,
+) -> Result<()> {
     match (old, new) {
         (Simulation::Cpu(a), Simulation::Cpu(b)) => {
             b.particles.x.clone_from(&a.particles.x);
@@ -568,12 +600,18 @@ fn transfer(old: &Simulation, new: &mut Simulation, ctx: &GpuContext) -> Result<
             ctx.queue.write_buffer(b.velocities(), 0, bytemuck::cast_slice(&v));
         }
         (Simulation::Gpu(a), Simulation::Cpu(b)) => {
-            let st = a.read_state()?;
-            if st.x.len() != b.particles.len() {
+            let (x, v) = match latest {
+                Some(state) => state,
+                None => {
+                    let st = a.read_state()?;
+                    (st.x, st.v)
+                }
+            };
+            if x.len() != b.particles.len() || v.len() != x.len() {
                 return Err(Error::Gpu("state size mismatch".into()));
             }
-            b.particles.x = st.x.iter().map(|&p| p.into()).collect();
-            b.particles.v = st.v.iter().map(|&v| v.into()).collect();
+            b.particles.x = x.iter().map(|&p| p.into()).collect();
+            b.particles.v = v.iter().map(|&v| v.into()).collect();
         }
     }
     Ok(())

@@ -4,7 +4,7 @@
 //! panels' image; a frame without a change copies the panels' rectangles from it onto the
 //! surface instead of running and drawing egui again.
 
-use std::time::{Duration, Instant};
+use web_time::{Duration, Instant};
 
 use crate::render::texture;
 
