@@ -45,6 +45,9 @@ pub enum Error {
     /// A GPU operation failed.
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// The browser refused what the web page asked of it (wasm32 only).
+    #[error("in the web page: {0}")]
+    Web(String),
     /// A feature that this backend or build does not provide yet.
     #[error("not supported: {0}")]
     Unsupported(String),

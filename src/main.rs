@@ -11,11 +11,12 @@ fn main() -> anyhow::Result<()> {
     let sub = matches.subcommand().map(|(_, m)| m);
     let command = match args.command {
         Some(c) => c,
-        // `eapbd` alone: the viewer on the hanging cloth at 10 substeps × 3 iterations, where the
-        // stretch stays near a percent and plain XPBD visibly loses the swing that the
-        // energy-aware projection keeps within ten seconds (docs/energy-aware.md).
+        // `eapbd` alone: the viewer on the main demo.
         None => {
-            cli::Cli::try_parse_from(["eapbd", "view", "--scene", "cloth", "--substeps", "10", "--iterations", "3"])?
+            let (scene, substeps, iterations) = eapbd::scene::MAIN_DEMO;
+            let (substeps, iterations) = (substeps.to_string(), iterations.to_string());
+            let args = ["eapbd", "view", "--scene", scene, "--substeps", &substeps, "--iterations", &iterations];
+            cli::Cli::try_parse_from(args)?
                 .command
                 .ok_or_else(|| anyhow::anyhow!("the default view command did not parse"))?
         }

@@ -26,8 +26,13 @@ pub fn pod_vec<T: bytemuck::Pod>(bytes: &[u8]) -> Vec<T> {
     out
 }
 
-/// Maps a `MAP_READ` buffer and copies its contents out.
+/// Maps a `MAP_READ` buffer and copies its contents out, waiting for the device. A browser
+/// maps a buffer only after the page's script has returned to it, so there this is an error:
+/// the web viewer reads back asynchronously instead.
 pub fn map_and_copy<T: bytemuck::Pod>(device: &wgpu::Device, staging: &wgpu::Buffer) -> Result<Vec<T>> {
+    if cfg!(target_arch = "wasm32") {
+        return Err(Error::Unsupported("waiting for a read-back from the GPU in a web page".into()));
+    }
     let (tx, rx) = std::sync::mpsc::channel();
     staging.slice(..).map_async(wgpu::MapMode::Read, move |r| {
         let _ = tx.send(r);

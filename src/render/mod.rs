@@ -18,7 +18,9 @@ pub use lines::LineSet;
 pub use pipelines::Renderer;
 pub use scene_view::SceneView;
 pub use sphere::uv_sphere;
-pub use target::{DEPTH_FORMAT, FrameViews, OFFSCREEN_FORMAT, OffscreenTarget, save_png, texture};
+pub use target::{
+    DEPTH_FORMAT, FrameViews, OFFSCREEN_FORMAT, OffscreenTarget, TextureCopy, copy_texture, save_png, texture,
+};
 
 /// Background colour (linear RGB), matched by the ground's fade.
 pub const SKY: wgpu::Color = wgpu::Color { r: 0.80, g: 0.84, b: 0.90, a: 1.0 };

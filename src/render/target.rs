@@ -1,4 +1,5 @@
-//! An offscreen render target (multisampled colour, resolve, depth) and its PNG readback.
+//! An offscreen render target (multisampled colour, resolve, depth), the copy of a texture
+//! back to the CPU and PNG output.
 
 use std::path::Path;
 
@@ -85,33 +86,62 @@ impl OffscreenTarget {
 
     /// Copies the resolved image back (rows padded to 256 bytes on the GPU, stripped here).
     pub fn read_rgba(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<image::RgbaImage> {
-        let row = self.width * 4;
-        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("image readback"),
-            size: padded as u64 * self.height as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut enc = device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.resolved,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buffer,
-                layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: None },
-            },
-            wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
-        );
-        queue.submit([enc.finish()]);
-        let bytes: Vec<u8> = crate::gpu::map_and_copy(device, &buffer)?;
-        let mut pixels = Vec::with_capacity((row * self.height) as usize);
-        for r in 0..self.height as usize {
-            pixels.extend_from_slice(&bytes[r * padded as usize..r * padded as usize + row as usize]);
+        let copy = copy_texture(device, queue, &self.resolved)?;
+        let bytes: Vec<u8> = crate::gpu::map_and_copy(device, &copy.buffer)?;
+        copy.image(&bytes, false)
+    }
+}
+
+/// A texture copied into a mappable buffer, its rows padded to wgpu's alignment.
+#[derive(Debug)]
+pub struct TextureCopy {
+    /// The buffer to map (`padded × height` bytes).
+    pub buffer: wgpu::Buffer,
+    width: u32,
+    height: u32,
+    padded: u32,
+    bgra: bool,
+}
+
+/// Records and submits the copy of a 4-byte-per-pixel texture into a buffer to map.
+pub fn copy_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Result<TextureCopy> {
+    let (width, height) = (texture.width(), texture.height());
+    let format = texture.format();
+    if format.block_copy_size(None) != Some(4) {
+        return Err(Error::Unsupported(format!("capturing a {format:?} surface")));
+    }
+    let padded = (width * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("capture readback"),
+        size: padded as u64 * height as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: None },
+        },
+        wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+    );
+    queue.submit([enc.finish()]);
+    let bgra = matches!(format, wgpu::TextureFormat::Bgra8Unorm | wgpu::TextureFormat::Bgra8UnormSrgb);
+    Ok(TextureCopy { buffer, width, height, padded, bgra })
+}
+
+impl TextureCopy {
+    /// The image in the mapped `bytes` as RGBA (BGRA formats swizzled), its alpha made 255
+    /// where `opaque` (a window's surface: what is on screen).
+    pub fn image(&self, bytes: &[u8], opaque: bool) -> Result<image::RgbaImage> {
+        let (row, padded) = (self.width as usize * 4, self.padded as usize);
+        let mut pixels = Vec::with_capacity(row * self.height as usize);
+        for line in bytes.chunks_exact(padded).take(self.height as usize) {
+            for px in line[..row].chunks_exact(4) {
+                let [a, b, c, d] = [px[0], px[1], px[2], if opaque { 255 } else { px[3] }];
+                pixels.extend_from_slice(&if self.bgra { [c, b, a, d] } else { [a, b, c, d] });
+            }
         }
         image::RgbaImage::from_raw(self.width, self.height, pixels)
             .ok_or_else(|| Error::Gpu("image size mismatch".into()))

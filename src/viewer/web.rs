@@ -7,28 +7,31 @@
 //! loop when it is ready ([`open`]), and the capture is sent from the mapping's callback
 //! ([`post`]).
 //!
-//! URL parameters (all optional): `scene` (default `cloth-paper`), `backend` (`cpu` or `gpu`;
-//! default: the GPU solver, the CPU solver on a software adapter), `compare` (as `view
-//! --compare`), `width` and `height` (px; default: the browser's window), `frames` (stop after
-//! that many) and `post` (with `frames`: POST the last frame's scene, drawn over the whole
-//! canvas without the panels, as a PNG to that path of the page's server).
+//! URL parameters (all optional): `scene` (default: the hanging `cloth` at 10 substeps × 3
+//! iterations, the desktop's main demo), `substeps`, `iterations`, `energy-aware` (as the
+//! command line's options), `backend` (`cpu` or `gpu`; default: the GPU solver, the CPU solver
+//! on a software adapter), `compare` (as `view --compare`), `width` and `height` (the canvas in
+//! CSS pixels; default: the browser's window), `frames` (stop after that many), `post` (with
+//! `frames`: POST the last frame as a PNG to that path of the page's server) and `panels`
+//! (`1`: the frame posted has the panels; else it is the main run's scene alone, drawn over the
+//! whole canvas: in compare mode, without the second run).
 
 use std::str::FromStr;
 use std::sync::Arc;
 
 use wasm_bindgen::JsCast;
 use wasm_bindgen::prelude::*;
-use winit::dpi::PhysicalSize;
+use winit::dpi::LogicalSize;
 use winit::event_loop::{ActiveEventLoop, EventLoopProxy};
 use winit::platform::web::WindowAttributesExtWebSys;
 use winit::window::Window;
 
 use super::app::{Opened, ViewerOptions};
-use super::capture::TextureCopy;
 use super::state::{SceneChoice, ViewerState};
 use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
-use crate::scene::{SceneOptions, default_iterations};
+use crate::render::TextureCopy;
+use crate::scene::{MAIN_DEMO, SceneOptions, default_iterations};
 use crate::simulation::Backend;
 use crate::solver::Settings;
 
@@ -55,16 +58,27 @@ where
     param(name).map(|v| v.parse().map_err(|e| Error::param(name, format!("{v} ({e})"), "not understood"))).transpose()
 }
 
-/// What the URL asks for, as the command line's `view` would.
+/// What the URL asks for, as the command line's `view` would; without a scene, the main demo
+/// ([`MAIN_DEMO`]).
 fn options() -> Result<ViewerOptions> {
-    let name = param("scene").unwrap_or_else(|| "cloth-paper".into());
+    let (name, split) = match param("scene") {
+        Some(name) => (name, None),
+        None => (MAIN_DEMO.0.to_string(), Some((MAIN_DEMO.1, MAIN_DEMO.2))),
+    };
     let scene_options = SceneOptions::default();
-    let settings = Settings { iterations: default_iterations(&name), ..Settings::default() };
+    let mut settings = Settings { iterations: default_iterations(&name), ..Settings::default() };
+    if let Some((substeps, iterations)) = split {
+        (settings.substeps, settings.iterations) = (substeps, iterations);
+    }
+    settings.substeps = parsed("substeps")?.unwrap_or(settings.substeps);
+    settings.iterations = parsed("iterations")?.unwrap_or(settings.iterations);
+    settings.energy_aware = parsed("energy-aware")?.unwrap_or(settings.energy_aware);
+    settings.validate()?;
     let backend: Option<Backend> = parsed("backend")?;
     let mut state =
         ViewerState::new(SceneChoice::new(&name, &scene_options)?, settings, backend.unwrap_or(Backend::Gpu));
     state.compare = parsed("compare")?;
-    let window = web_sys::window().ok_or_else(|| Error::NoDisplay("no browser window".into()))?;
+    let window = web_sys::window().ok_or_else(|| Error::Web("no browser window".into()))?;
     let inner = |v: std::result::Result<JsValue, JsValue>| v.ok().and_then(|v| v.as_f64()).unwrap_or(800.0) as u32;
     let width = parsed("width")?.unwrap_or_else(|| inner(window.inner_width()));
     let height = parsed("height")?.unwrap_or_else(|| inner(window.inner_height()));
@@ -100,11 +114,13 @@ pub(super) fn open(
     let append = canvas.is_none();
     let attributes = Window::default_attributes()
         .with_title("eapbd: energy-aware XPBD")
-        .with_inner_size(PhysicalSize::new(o.width, o.height))
+        .with_inner_size(LogicalSize::new(o.width, o.height))
         .with_canvas(canvas)
         .with_append(append);
     #[allow(clippy::arc_with_non_send_sync)]
-    let window = Arc::new(event_loop.create_window(attributes).map_err(|e| Error::NoDisplay(e.to_string()))?);
+    let window = Arc::new(
+        event_loop.create_window(attributes).map_err(|e| Error::Web(format!("cannot use the page's canvas: {e}")))?,
+    );
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
     desc.backends = wgpu::Backends::BROWSER_WEBGPU;
     let instance = wgpu::Instance::new(desc);
@@ -138,7 +154,7 @@ pub(super) fn post(copy: TextureCopy, url: String) {
             .and_then(|()| {
                 let view =
                     copy.buffer.slice(..).get_mapped_range().map_err(|e| Error::Gpu(format!("capture range: {e}")))?;
-                copy.image(&view)
+                copy.image(&view, true)
             })
             .and_then(|img| {
                 let mut png = std::io::Cursor::new(Vec::new());
@@ -160,12 +176,12 @@ pub(super) fn post(copy: TextureCopy, url: String) {
 
 /// POSTs `body` to `url`.
 async fn send(url: &str, body: &[u8]) -> Result<()> {
-    let failed = |e: JsValue| Error::NoDisplay(format!("sending the capture to {url}: {e:?}"));
+    let failed = |e: JsValue| Error::Web(format!("sending the capture to {url}: {e:?}"));
     let init = web_sys::RequestInit::new();
     init.set_method("POST");
     init.set_body(&js_sys::Uint8Array::from(body).into());
     let request = web_sys::Request::new_with_str_and_init(url, &init).map_err(failed)?;
-    let window = web_sys::window().ok_or_else(|| Error::NoDisplay("no browser window".into()))?;
+    let window = web_sys::window().ok_or_else(|| Error::Web("no browser window".into()))?;
     wasm_bindgen_futures::JsFuture::from(window.fetch_with_request(&request)).await.map_err(failed)?;
     Ok(())
 }

@@ -220,7 +220,7 @@ impl Running {
     pub(super) fn screenshot(&mut self, path: &std::path::Path) -> Result<()> {
         let copy = self.capture(true)?;
         let bytes: Vec<u8> = crate::gpu::map_and_copy(&self.ctx.device, &copy.buffer)?;
-        save_png(&copy.image(&bytes)?, path)
+        save_png(&copy.image(&bytes, true)?, path)
     }
 }
 

@@ -20,7 +20,7 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::{Window, WindowId};
 
-use super::capture::{FrameTargets, TextureCopy, copy_texture};
+use super::capture::FrameTargets;
 use super::session::{Session, smooth};
 use super::state::ViewerState;
 use super::twin;
@@ -30,6 +30,7 @@ use crate::error::{Error, Result};
 use crate::gpu::GpuContext;
 #[cfg(not(target_arch = "wasm32"))]
 use crate::render::save_png;
+use crate::render::{TextureCopy, copy_texture};
 
 /// How the viewer starts.
 #[derive(Clone, Debug)]
@@ -87,6 +88,8 @@ pub fn run(options: ViewerOptions) -> Result<()> {
         started: None,
         #[cfg(target_arch = "wasm32")]
         proxy,
+        #[cfg(target_arch = "wasm32")]
+        opening: false,
     };
     #[cfg(target_arch = "wasm32")]
     {
@@ -172,6 +175,9 @@ struct App {
     /// Where the page's device arrives once the browser has answered (see `web::open`).
     #[cfg(target_arch = "wasm32")]
     proxy: winit::event_loop::EventLoopProxy<Result<Opened>>,
+    /// The page's device is being opened (a second `resumed` must not open another).
+    #[cfg(target_arch = "wasm32")]
+    opening: bool,
 }
 
 impl App {
@@ -242,7 +248,9 @@ impl ApplicationHandler<Result<Opened>> for App {
             self.ready(event_loop, opened);
         }
         #[cfg(target_arch = "wasm32")]
-        if let Err(e) = super::web::open(event_loop, &self.options, self.proxy.clone()) {
+        if !std::mem::replace(&mut self.opening, true)
+            && let Err(e) = super::web::open(event_loop, &self.options, self.proxy.clone())
+        {
             self.fail(event_loop, e);
         }
     }

@@ -3,8 +3,9 @@
 use super::*;
 
 impl Running {
-    /// egui and the session on an opened window: the surface configured in an sRGB format (a view
-    /// of one where the surface itself has none, as a browser's canvas), the frame's targets.
+    /// egui and the session on an opened window: the surface configured in an sRGB format where
+    /// it has one (in a browser, whose canvas has none, drawn through an sRGB view), the frame's
+    /// targets.
     pub(super) fn new(opened: Opened, o: &ViewerOptions) -> Result<Running> {
         let Opened { window, surface, ctx } = opened;
         let caps = surface.get_capabilities(&ctx.adapter);
@@ -15,7 +16,9 @@ impl Running {
             .find(|f| f.is_srgb())
             .or_else(|| caps.formats.first().copied())
             .ok_or_else(|| Error::Gpu("the surface offers no format".into()))?;
-        let format = surface_format.add_srgb_suffix();
+        // A browser's canvas has no sRGB format but takes an sRGB view of its texture; the
+        // desktop draws in the format the surface offers, as it always has.
+        let format = if cfg!(target_arch = "wasm32") { surface_format.add_srgb_suffix() } else { surface_format };
         let size = window.inner_size();
         let software = ctx.adapter.get_info().device_type == wgpu::DeviceType::Cpu;
         let cached = software && caps.usages.contains(wgpu::TextureUsages::COPY_DST);
