@@ -186,6 +186,15 @@ async fn send(url: &str, body: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Marks the canvas with the number of frames drawn (`data-frames`), for a script or a test
+/// that waits for the page.
+pub(super) fn count_frames(window: &Window, frames: u32) {
+    use winit::platform::web::WindowExtWebSys;
+    if let Some(canvas) = window.canvas() {
+        let _ = canvas.set_attribute("data-frames", &frames.to_string());
+    }
+}
+
 /// Shows `e` on the page.
 pub(super) fn show_error(e: &Error) {
     show_status(&format!("eapbd: {e}"), true);

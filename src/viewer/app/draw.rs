@@ -203,14 +203,16 @@ impl Running {
     }
 
     /// Posts the last frame as a PNG to `url` of the page's server (panels included where
-    /// `panels`), telling the server the solver that ran and the mean frame rate `fps` (1/s).
+    /// `panels`), telling the server the solver that ran, the mean frame rate `fps` (1/s), the
+    /// split of a frame and how many particles the mouse grabbed.
     #[cfg(target_arch = "wasm32")]
     pub(super) fn post(&mut self, url: &str, panels: bool, fps: f64) -> Result<()> {
         let copy = self.capture(panels)?;
         let (solver, t) = (self.session.state.backend.name(), &self.session.timings);
         let ms = |v: Option<f64>| v.map_or("-".into(), |ms| format!("{ms:.2}"));
         let (s, u, d) = (ms(t.solver_ms), ms(t.ui_ms), ms(t.draw_ms));
-        let query = format!("solver={solver}&fps={fps:.1}&solver_ms={s}&panels_ms={u}&drawing_ms={d}");
+        let grabs = self.grabs;
+        let query = format!("solver={solver}&fps={fps:.1}&solver_ms={s}&panels_ms={u}&drawing_ms={d}&grabs={grabs}");
         crate::viewer::web::post(copy, format!("{url}?{query}"));
         Ok(())
     }

@@ -157,6 +157,9 @@ struct Running {
     twin: Option<Session>,
     /// Compare mode's labels over the scene (physical pixels `[x0, y0, x1, y1]`).
     labels: Vec<[f32; 4]>,
+    /// Particles grabbed with the mouse so far (the web page reports it).
+    #[cfg(target_arch = "wasm32")]
+    grabs: u32,
 }
 
 /// A window, its surface and a device that can draw into it: what the session is built on.
@@ -208,6 +211,8 @@ impl App {
         match r.redraw() {
             Ok(true) => {
                 self.frames += 1;
+                #[cfg(target_arch = "wasm32")]
+                super::web::count_frames(&r.window, self.frames);
                 if self.options.exit_after_frames.is_some_and(|n| self.frames >= n) {
                     #[cfg(not(target_arch = "wasm32"))]
                     let result = match &self.options.screenshot {

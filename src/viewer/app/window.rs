@@ -76,6 +76,8 @@ impl Running {
             ui_changed: true,
             twin: None,
             labels: Vec::new(),
+            #[cfg(target_arch = "wasm32")]
+            grabs: 0,
         })
     }
 
@@ -140,7 +142,12 @@ impl Running {
         self.drag = match button {
             MouseButton::Left => {
                 let (pixel, size) = self.scene_pixel(self.cursor);
-                Some(if self.session.grab_at(pixel, size) { Drag::Grab } else { Drag::Orbit })
+                let grabbed = self.session.grab_at(pixel, size);
+                #[cfg(target_arch = "wasm32")]
+                {
+                    self.grabs += grabbed as u32;
+                }
+                Some(if grabbed { Drag::Grab } else { Drag::Orbit })
             }
             MouseButton::Right | MouseButton::Middle => Some(Drag::Pan),
             _ => None,
