@@ -108,7 +108,7 @@ pub fn run(options: ViewerOptions) -> Result<()> {
             eprintln!(
                 "viewer: {} frames in {secs:.2} s ({:.1} FPS); ms/frame: solver {}, panels {}, drawing {}; on {}",
                 app.frames,
-                app.frames as f64 / secs.max(1e-9),
+                mean_fps(app.frames, app.started),
                 ms(t.solver_ms),
                 ms(t.ui_ms),
                 ms(t.draw_ms),
@@ -117,6 +117,11 @@ pub fn run(options: ViewerOptions) -> Result<()> {
         }
         app.error.map_or(Ok(()), Err)
     }
+}
+
+/// Frames per second since `started` (the first frame's window), over `frames` frames.
+fn mean_fps(frames: u32, started: Option<Instant>) -> f64 {
+    frames as f64 / started.map_or(0.0, |t| t.elapsed().as_secs_f64()).max(1e-9)
 }
 
 /// What a mouse drag in the scene does.
@@ -222,18 +227,13 @@ impl App {
                     // A browser maps the capture later; `web::post` sends it when it has.
                     #[cfg(target_arch = "wasm32")]
                     let result = match &self.options.post_to {
-                        Some(url) => {
-                            let secs = self.started.map_or(0.0, |t| t.elapsed().as_secs_f64());
-                            r.post(url, self.options.post_panels, self.frames as f64 / secs.max(1e-9))
-                        }
+                        Some(url) => r.post(url, self.options.post_panels, mean_fps(self.frames, self.started)),
                         None => Ok(()),
                     };
-                    if let Err(e) = result {
-                        #[cfg(target_arch = "wasm32")]
-                        super::web::show_error(&e);
-                        self.error = Some(e);
+                    match result {
+                        Ok(()) => event_loop.exit(),
+                        Err(e) => self.fail(event_loop, e),
                     }
-                    event_loop.exit();
                 }
             }
             Ok(false) => {}
