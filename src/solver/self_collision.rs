@@ -30,6 +30,7 @@
 //! sent back by the passed-through rule.
 
 pub mod broad_phase;
+pub mod near;
 
 pub use broad_phase::{bucket, cell, insert, inv_count, mean_shift};
 
@@ -115,6 +116,8 @@ pub struct SelfPairs {
     /// The candidate pairs `(i, j)`, `i < j`, in increasing order ([`SelfPairs::pairs`]), for
     /// the one-thread pass.
     flat: Vec<[u32; 2]>,
+    /// Those of them near enough to touch, which the one-thread pass visits.
+    near: near::NearPairs,
 }
 
 impl SelfPairs {
@@ -153,7 +156,9 @@ impl SelfPairs {
     /// is visited once, from its lower index, and gives both particles their shares: each
     /// particle's sum then adds its pairs in increasing order of the other index, as
     /// [`SelfPairs::moves`] and the GPU's gather do, and each share is the same expression as
-    /// there (negating a vector is exact), so the three agree to the bit.
+    /// there (negating a vector is exact), so the three agree to the bit. It visits only the
+    /// [`near`] pairs while no particle moved half the thickness in the substep (the others
+    /// are apart and leave the sums as they are).
     pub fn project<V: Vector>(&mut self, x: &mut [V], x_prev: &[V], w: &[V::S], sc: &SelfCollision, dx: &mut Vec<V>) {
         let pass = Pass::new(sc);
         dx.clear();
@@ -168,7 +173,8 @@ impl SelfPairs {
         self.fast.clear();
         self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
         let one = V::S::one();
-        for &[i, j] in &self.flat {
+        let pairs = if self.fast.contains(&true) { &self.flat } else { self.near.of(&self.flat, x, sc.thickness) };
+        for &[i, j] in pairs {
             let (i, j) = (i as usize, j as usize);
             let d = x[i] - x[j];
             if d.dot(d) >= pass.keep2 && !self.fast[i] && !self.fast[j] {
