@@ -51,7 +51,15 @@ fn cpu_gauss_seidel_single_thread_allocates_nothing_per_frame() {
     ];
     for (what, scene, iterations, substeps, form) in cases {
         let s = Settings { iterations, substeps, form, threads: 1, ..Settings::default() };
-        let st = cpu_frames(scene, &s, 3, 20);
+        // The counters are process-wide: threads another test left (the team's pool, the GPU
+        // driver's) may still allocate or free while this one measures. A solver that allocates
+        // per frame does so in every measurement; one clean measurement of three passes.
+        let mut st = cpu_frames(scene.clone(), &s, 3, 20);
+        for _ in 0..2 {
+            if st.allocations + st.reallocations > 0 {
+                st = cpu_frames(scene.clone(), &s, 3, 20);
+            }
+        }
         assert_eq!(
             (st.allocations, st.reallocations, st.bytes_allocated),
             (0, 0, 0),
