@@ -109,6 +109,15 @@ fn absurd_parameters_are_refused_with_a_reason() {
 }
 
 #[test]
+fn substeps_too_fine_for_f32_positions_are_warned_about() {
+    let out = eapbd(&["simulate", "--substeps", "250", "--iterations", "1", "--frames", "3"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && err.contains("warning: at 250 substeps") && err.contains("never start"), "{err}");
+    let out = eapbd(&["simulate", "--substeps", "30", "--iterations", "1", "--frames", "3"]);
+    assert!(out.status.success() && !String::from_utf8_lossy(&out.stderr).contains("warning"));
+}
+
+#[test]
 fn quick_energy_report_writes_its_files() {
     let dir = scratch("energy-report");
     let out = eapbd(&["report", "energy", "--quick", "--out", dir.to_str().unwrap()]);

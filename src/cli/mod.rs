@@ -310,6 +310,14 @@ impl SceneArgs {
     }
 }
 
+/// Warns on standard error where `f32` positions cannot resolve a substep's motion under
+/// gravity (`eapbd::solver::precision`).
+pub fn warn_unresolved(scene: &eapbd::scene::Scene, s: &Settings) {
+    if let Some(u) = eapbd::solver::precision::unresolved_substep(scene, s) {
+        eprintln!("warning: {u}");
+    }
+}
+
 /// Writes `args` (and a newline when `line`) to standard output. A reader that went away (a
 /// broken pipe) ends the program with success, as the usual command-line tools do; any other
 /// write error ends it with a message and status 1.

@@ -50,6 +50,7 @@ pub struct SimulateArgs {
 pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     let settings = a.scene.settings()?;
     let scene = a.scene.build_scene()?;
+    super::warn_unresolved(&scene, &settings);
     let gpu = match a.backend {
         Backend::Gpu => {
             let ctx = GpuContext::new()?;

@@ -24,6 +24,7 @@ mod cpu;
 pub mod energy;
 pub mod jacobi;
 mod particles;
+pub mod precision;
 pub mod projection;
 mod pull;
 pub mod self_collision;
