@@ -118,6 +118,9 @@ pub struct SelfPairs {
     flat: Vec<[u32; 2]>,
     /// Those of them near enough to touch, which the one-thread pass visits.
     near: near::NearPairs,
+    /// The last [`SelfPairs::prepare`] found no fast particle: a pass may visit the near pairs
+    /// only.
+    gather_near: bool,
 }
 
 impl SelfPairs {
@@ -165,15 +168,9 @@ impl SelfPairs {
         dx.resize(x.len(), V::ZERO);
         self.touching.clear();
         self.touching.resize(x.len(), 0);
-        // A pair apart by the thickness or more has passed through itself only if the two moved
-        // apart from each other by more than that (`|u_i − u_j| > |x_i − x_j|` when
-        // `(x_i − x_j)·(x⁰_i − x⁰_j) < 0`): never while both moved less than half of it this
-        // substep, and then its start positions need no look.
-        let half2 = pass.keep2 * <V::S as From<f32>>::from(0.25);
-        self.fast.clear();
-        self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
+        self.prepare(x, x_prev, sc, false);
         let one = V::S::one();
-        let pairs = if self.fast.contains(&true) { &self.flat } else { self.near.of(&self.flat, x, sc.thickness) };
+        let pairs = if self.gather_near { self.near.pairs() } else { &self.flat };
         for &[i, j] in pairs {
             let (i, j) = (i as usize, j as usize);
             let d = x[i] - x[j];
@@ -190,8 +187,30 @@ impl SelfPairs {
                 }
             }
         }
+        self.gather_near = false;
         for ((p, d), &k) in x.iter_mut().zip(dx.iter()).zip(&self.touching) {
             *p += pass.spread(*d, k);
+        }
+    }
+
+    /// Readies a pass at positions `x` (substep start `x_prev`): marks the particles that moved
+    /// at least half the thickness in the substep and, when none did, brings the [`near`] pairs
+    /// up to date (with each particle's near partners when `by_particle`, for
+    /// [`SelfPairs::moves`]). A pair farther apart than the thickness has passed through itself
+    /// only if the two moved apart from each other by more than that (`|u_i − u_j| >
+    /// |x_i − x_j|` when `(x_i − x_j)·(x⁰_i − x⁰_j) < 0`): never while both moved less than half
+    /// of it, so then only the near pairs can give a move.
+    pub fn prepare<V: Vector>(&mut self, x: &[V], x_prev: &[V], sc: &SelfCollision, by_particle: bool) {
+        let keep = <V::S as From<f32>>::from(sc.thickness);
+        let half2 = keep * keep * <V::S as From<f32>>::from(0.25);
+        self.fast.clear();
+        self.fast.extend(x.iter().zip(x_prev).map(|(p, q)| (*p - *q).length_squared() >= half2));
+        self.gather_near = !self.fast.contains(&true);
+        if self.gather_near {
+            self.near.update(&self.flat, x, sc.thickness);
+            if by_particle {
+                self.near.by_particle(x.len());
+            }
         }
     }
 
@@ -199,7 +218,8 @@ impl SelfPairs {
     /// `x_prev`, inverse masses `w`) into `out` (one per particle of `range`): each particle
     /// gathers its pairs' shares in increasing order of the other index, as the GPU's
     /// `self_project` does; the same moves as [`SelfPairs::project`] makes, range by range (for
-    /// the threads of a team).
+    /// the threads of a team). Right after [`SelfPairs::prepare`] at the same positions with
+    /// `by_particle`, each particle gathers over its near partners only (the same moves).
     pub fn moves<V: Vector>(
         &self,
         range: std::ops::Range<usize>,
@@ -208,10 +228,12 @@ impl SelfPairs {
         out: &mut [V],
     ) {
         let pass = Pass::new(sc);
+        let near = self.gather_near && self.near.by_particle_ready(self.counts.len());
         for (i, o) in range.zip(out.iter_mut()) {
             let (mut sum, mut k) = (V::ZERO, 0);
             if i < self.counts.len() && w[i] != V::S::zero() {
-                for &j in self.of(i) {
+                let partners = if near { self.near.partners(i) } else { self.of(i) };
+                for &j in partners {
                     let j = j as usize;
                     let moved = (x[i] - x_prev[i]) - (x[j] - x_prev[j]);
                     if let Some(m) =

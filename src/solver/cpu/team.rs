@@ -11,8 +11,10 @@
 //! the finish pass and the next prediction), the local mode (whose snapshots and start energies
 //! read every particle) and Jacobi (whose sums read every element's corrections) meet at spin
 //! barriers around those passes, as does the self-collision: thread 0 checks and finds the
-//! candidates while the others wait, then each thread gathers its particles' moves against the same
-//! iterate ([`crate::solver::self_collision::SelfPairs::moves`]) and adds them. The elements of a
+//! candidates while the others wait, and before each pass readies it (the near pairs,
+//! [`crate::solver::self_collision::SelfPairs::prepare`]); then each thread gathers its particles'
+//! moves against the same iterate ([`crate::solver::self_collision::SelfPairs::moves`]) and adds
+//! them. The elements of a
 //! group share no particle, the passes touch each particle alone, and two elements that share a
 //! particle are visited in the order of their groups, so the positions come out the same, bit for
 //! bit, for any thread count. Each thread times its waits, and the solver sums each thread's time
@@ -301,6 +303,12 @@ impl<V: Vector> CpuSolver<V> {
                     }
                     Stage::SelfCollision => {
                         let Some(sc) = &scene.self_collision else { continue };
+                        me.meet();
+                        // Thread 0 readies the pass (its near partners) once every position is in.
+                        if me.t == 0 {
+                            let mut pairs = self_pairs.write().unwrap_or_else(PoisonError::into_inner);
+                            pairs.prepare(v.x.read_all(), v.x_prev.read_all(), sc, true);
+                        }
                         me.meet();
                         let at = (v.x.read_all(), v.x_prev.read_all(), w);
                         let pairs = self_pairs.read().unwrap_or_else(PoisonError::into_inner);

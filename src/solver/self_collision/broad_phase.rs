@@ -330,6 +330,7 @@ impl SelfPairs {
     /// The pairs `(i, j)`, `i < j`, in increasing order, from the lists.
     fn flatten(&mut self) {
         self.near.invalidate();
+        self.gather_near = false;
         self.flat.clear();
         for i in 0..self.counts.len() {
             let list = &self.lists[i * CAPACITY..][..self.counts[i] as usize];

@@ -35,6 +35,12 @@ pub struct NearPairs {
     stale: bool,
     /// Times the near pairs were taken.
     takes: u64,
+    /// Each particle's near partners, increasing, at `partners[offsets[i]..offsets[i + 1]]`
+    /// (for the threads of a team, which gather particle by particle); out of date while
+    /// `by_particle_stale`.
+    offsets: Vec<u32>,
+    partners: Vec<u32>,
+    by_particle_stale: bool,
 }
 
 impl NearPairs {
@@ -48,15 +54,60 @@ impl NearPairs {
         self.takes
     }
 
-    /// The pairs of `candidates` that can touch at positions `x` for thickness `d` (m), taken
-    /// again when the candidates changed or a particle strayed more than `m'` from where they
-    /// were taken, beyond the mean displacement.
-    pub fn of<V: Vector>(&mut self, candidates: &[[u32; 2]], x: &[V], d: f32) -> &[[u32; 2]] {
+    /// Makes the near pairs those of `candidates` that can touch at positions `x` for thickness
+    /// `d` (m): taken again when the candidates changed or a particle strayed more than `m'`
+    /// from where they were taken, beyond the mean displacement.
+    pub fn update<V: Vector>(&mut self, candidates: &[[u32; 2]], x: &[V], d: f32) {
         let m = NEAR_MARGIN * d;
         if self.stale || self.at.len() != x.len() || self.strayed(x, m) {
             self.take(candidates, x, d + 2.0 * m);
         }
+    }
+
+    /// The near pairs `(i, j)`, `i < j`, in the candidates' order.
+    pub fn pairs(&self) -> &[[u32; 2]] {
         &self.pairs
+    }
+
+    /// Sorts the near pairs into each of `n` particles' partners ([`NearPairs::partners`]).
+    /// The candidates come in increasing order of `(i, j)`, so a particle meets its partners
+    /// below it (from their rows) before those above it (from its own), each in increasing order.
+    pub fn by_particle(&mut self, n: usize) {
+        if self.by_particle_ready(n) {
+            return;
+        }
+        self.offsets.clear();
+        self.offsets.resize(n + 1, 0);
+        for &[i, j] in &self.pairs {
+            self.offsets[i as usize + 1] += 1;
+            self.offsets[j as usize + 1] += 1;
+        }
+        for k in 0..n {
+            self.offsets[k + 1] += self.offsets[k];
+        }
+        self.partners.resize(self.offsets[n] as usize, 0);
+        // Each particle's next free slot: `offsets` moved on by one particle as it fills.
+        for &[i, j] in &self.pairs {
+            for (a, b) in [(i, j), (j, i)] {
+                let slot = &mut self.offsets[a as usize];
+                self.partners[*slot as usize] = b;
+                *slot += 1;
+            }
+        }
+        // Every particle's slot ended at the next one's start: shift back.
+        self.offsets.copy_within(0..n, 1);
+        self.offsets[0] = 0;
+        self.by_particle_stale = false;
+    }
+
+    /// Whether each of `n` particles' partners are sorted out for the near pairs as they are.
+    pub fn by_particle_ready(&self, n: usize) -> bool {
+        !self.by_particle_stale && self.offsets.len() == n + 1
+    }
+
+    /// Particle `i`'s near partners, increasing ([`NearPairs::by_particle`] first).
+    pub fn partners(&self, i: usize) -> &[u32] {
+        &self.partners[self.offsets[i] as usize..self.offsets[i + 1] as usize]
     }
 
     /// Whether some particle is farther than `m` (m) from where the pairs were taken, beyond
@@ -77,6 +128,7 @@ impl NearPairs {
         self.pairs.clear();
         self.pairs.extend(candidates.iter().filter(|&&[i, j]| (at[i as usize] - at[j as usize]).length_squared() < r2));
         self.stale = false;
+        self.by_particle_stale = true;
         self.takes += 1;
     }
 }
@@ -90,7 +142,7 @@ mod tests {
     use rand::{Rng, SeedableRng};
 
     #[test]
-    fn the_pass_over_the_near_pairs_moves_every_particle_as_the_pass_over_all_candidates() {
+    fn the_passes_over_the_near_pairs_move_every_particle_as_the_pass_over_all_candidates() {
         // Two 8 × 8 sheets, spacing and thickness 0.1 m, 0.09 m apart and shifted: pairs across
         // them touch. They wander by up to 4 mm a step (less than half the thickness), so the
         // near pairs are taken again now and then, and the candidates renewed.
@@ -103,7 +155,7 @@ mod tests {
         (w[0], w[70]) = (0.0, 0.5);
         let mut rng = SmallRng::seed_from_u64(7);
         let mut pairs = SelfPairs::default();
-        let (mut visited, mut candidates, mut pushed) = (0, 0, 0);
+        let (mut visited, mut candidates, mut pushed, mut near_gathers) = (0, 0, 0, 0);
         for step in 0..60 {
             let x_prev = x.clone();
             for p in &mut x {
@@ -115,9 +167,15 @@ mod tests {
             pairs.moves(0..x.len(), (&x, &x_prev, &w), &sc, &mut all);
             let mut y = x.clone();
             pairs.project(&mut y, &x_prev, &w, &sc, &mut Vec::new());
+            // A team's threads: readied, then each particle over its near partners.
+            pairs.prepare(&x, &x_prev, &sc, true);
+            near_gathers += usize::from(pairs.gather_near);
+            let mut gathered = vec![Vec3A::ZERO; x.len()];
+            pairs.moves(0..x.len(), (&x, &x_prev, &w), &sc, &mut gathered);
             for i in 0..x.len() {
                 let expected = (x[i] + all[i]).to_array().map(f32::to_bits);
                 assert_eq!(y[i].to_array().map(f32::to_bits), expected, "step {step}, particle {i}");
+                assert_eq!(gathered[i].to_array().map(f32::to_bits), all[i].to_array().map(f32::to_bits), "{i}");
             }
             pushed += x.iter().zip(&y).filter(|(a, b)| a != b).count();
             visited += pairs.near.pairs.len();
@@ -125,6 +183,7 @@ mod tests {
             x = y;
         }
         assert!(pushed > 60 * 10, "pushed {pushed}");
+        assert_eq!(near_gathers, 60, "no particle moved half the thickness");
         assert!(pairs.near.takes() > 5 && pairs.near.takes() < 60, "taken {} times", pairs.near.takes());
         assert!(pairs.builds() > 2, "renewed {} times", pairs.builds());
         assert!(2 * visited < candidates, "visited {visited} of {candidates}");
