@@ -116,7 +116,7 @@ pub struct SelfPairs {
     /// The candidate pairs `(i, j)`, `i < j`, in increasing order ([`SelfPairs::pairs`]), for
     /// the one-thread pass.
     flat: Vec<[u32; 2]>,
-    /// Those of them near enough to touch, which the one-thread pass visits.
+    /// Those of them near enough to touch, which the CPU's passes visit.
     near: near::NearPairs,
     /// The last [`SelfPairs::prepare`] found no fast particle: a pass may visit the near pairs
     /// only.

@@ -14,10 +14,9 @@
 //! candidates while the others wait, and before each pass readies it (the near pairs,
 //! [`crate::solver::self_collision::SelfPairs::prepare`]); then each thread gathers its particles'
 //! moves against the same iterate ([`crate::solver::self_collision::SelfPairs::moves`]) and adds
-//! them. The elements of a
-//! group share no particle, the passes touch each particle alone, and two elements that share a
-//! particle are visited in the order of their groups, so the positions come out the same, bit for
-//! bit, for any thread count. Each thread times its waits, and the solver sums each thread's time
+//! them. The elements of a group share no particle, the passes touch each particle alone, and two
+//! elements that share a particle are visited in the order of their groups, so the positions come
+//! out the same, bit for bit, for any thread count. Each thread times its waits, and the solver sums each thread's time
 //! working and waiting over the team's frames ([`super::TeamTime`]).
 
 use std::cell::Cell;

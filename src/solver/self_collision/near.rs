@@ -1,4 +1,4 @@
-//! The one-thread pass's near pairs: the candidates that can touch before any particle moves
+//! The CPU passes' near pairs: the candidates that can touch before any particle moves
 //! [`NEAR_MARGIN`] thicknesses from where they were taken (beyond the particles' mean
 //! displacement since then). Most candidates are a reach of 1.75 thicknesses apart and cannot
 //! touch for many substeps; the pass visits only the near ones while they hold.
@@ -17,8 +17,9 @@ use crate::math::prelude::*;
 /// displacement since then) before they are taken again, as a multiple of the thickness. The
 /// near pairs' reach, `1.125 d`, stays below a flat sheet's diagonal neighbours at the default
 /// thickness (`√2 h = 1.18 d` at `d = 1.2 h`), which are most of the candidates: on the 64 × 64
-/// `cloth-drape` at 30 × 1 the pass visits about a tenth of them. An eighth of the thickness
-/// takes them in and measured slower; a sixteenth and a thirty-second alike.
+/// `cloth-drape` at 30 × 1, once it lies, the pass visits about 1,400 of 26,600 (the near pairs
+/// taken about 8 times a frame over 300 frames). An eighth of the thickness takes the diagonals
+/// in (about 9,000 pairs) and measured slower; a sixteenth and a thirty-second alike.
 pub const NEAR_MARGIN: f32 = 0.0625;
 
 /// Relative room on the near pairs' reach for the rounding of `f32` positions.
