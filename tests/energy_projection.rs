@@ -21,14 +21,20 @@ fn settings(substeps: u32, iterations: u32, energy_aware: EnergyAware) -> Settin
     Settings { substeps, iterations, energy_aware, threads: 1, ..Settings::default() }
 }
 
+/// The hanging cloth after `frames` frames damped (5 /s) at `substeps` × `iterations`: at rest.
+fn damped_hanging_cloth(substeps: u32, iterations: u32, frames: u32) -> CpuSolver<Vec3A> {
+    let mut sv = hanging_cloth();
+    let damped = Settings { damping: 5.0, ..settings(substeps, iterations, EnergyAware::Off) };
+    for _ in 0..frames {
+        sv.step_frame(&damped);
+    }
+    sv
+}
+
 #[test]
 fn the_hanging_cloth_keeps_its_energy_and_its_swing_at_10_substeps_of_3_iterations() {
     // E_eq: the same cloth hanging at rest (10 s damped at 40 substeps of 2 iterations).
-    let mut rest = hanging_cloth();
-    let damped = Settings { damping: 5.0, ..settings(40, 2, EnergyAware::Off) };
-    for _ in 0..600 {
-        rest.step_frame(&damped);
-    }
+    let rest = damped_hanging_cloth(40, 2, 600);
     let e_eq = FrameStats::measure(&rest, 600, 0.0).total();
     let mut sv = hanging_cloth();
     let e0 = FrameStats::measure(&sv, 0, 0.0).total();
@@ -85,11 +91,7 @@ fn the_free_cloth_keeps_both_momenta_and_its_energy() {
 
 #[test]
 fn a_cloth_at_rest_stays_at_rest() {
-    let mut sv = hanging_cloth();
-    let damped = Settings { damping: 5.0, ..settings(10, 3, EnergyAware::Off) };
-    for _ in 0..900 {
-        sv.step_frame(&damped);
-    }
+    let mut sv = damped_hanging_cloth(10, 3, 900);
     let before = FrameStats::measure(&sv, 0, 0.0).kinetic;
     let s = settings(10, 3, EnergyAware::Project);
     let mut peak: f64 = 0.0;

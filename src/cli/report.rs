@@ -231,10 +231,8 @@ fn energy(a: &EnergyArgs) -> anyhow::Result<()> {
         });
         bar.inc(1);
     })?;
-    bar.finish_and_clear();
     energy::write_outputs(&a.out, &opts, &results)?;
-    say!("wrote {}", a.out.join("energy.md").display());
-    Ok(())
+    wrote(&bar, &a.out.join("energy.md"))
 }
 
 fn beam(a: &BeamArgs) -> anyhow::Result<()> {
@@ -273,10 +271,8 @@ fn beam(a: &BeamArgs) -> anyhow::Result<()> {
         });
         bar.inc(1);
     })?;
-    bar.finish_and_clear();
     beam::write_outputs(&a.out, &opts, &results)?;
-    say!("wrote {}", a.out.join("beam.md").display());
-    Ok(())
+    wrote(&bar, &a.out.join("beam.md"))
 }
 
 fn stability(a: &StabilityArgs) -> anyhow::Result<()> {
@@ -366,5 +362,12 @@ fn error_vs_time(a: &ErrorArgs) -> anyhow::Result<()> {
     );
     error_time::write_outputs(&out, &study)?;
     say!("wrote {} ({:.1} s)", out.join("error_vs_time.md").display(), study.wall);
+    Ok(())
+}
+
+/// Clears a study's progress bar and says where its report went.
+fn wrote(bar: &indicatif::ProgressBar, report: &std::path::Path) -> anyhow::Result<()> {
+    bar.finish_and_clear();
+    say!("wrote {}", report.display());
     Ok(())
 }

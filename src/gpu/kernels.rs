@@ -379,6 +379,12 @@ impl Kernels {
     }
 }
 
+/// Records `pipeline` over `groups` workgroups (the bind groups as set).
+pub(crate) fn dispatch(pass: &mut wgpu::ComputePass<'_>, pipeline: &wgpu::ComputePipeline, groups: u32) {
+    pass.set_pipeline(pipeline);
+    pass.dispatch_workgroups(groups, 1, 1);
+}
+
 /// Workgroups (of 64) for `count` items, capped for the grid-stride loops.
 pub(crate) fn groups(count: u32) -> u32 {
     count.div_ceil(64).clamp(1, 65535)

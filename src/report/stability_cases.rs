@@ -145,22 +145,13 @@ pub fn cases() -> Vec<Case> {
         ("inverted-mooney-rivlin", Model::MooneyRivlin),
         ("inverted-arruda-boyce", Model::ArrudaBoyce),
     ] {
-        add(
-            name,
-            "inverted",
-            format!("{} cube 3³ cells, E 2e6 Pa, mirrored (every tetrahedron inverted), no gravity", model.name()),
-            "cube",
-            cube(model, 2.0e6, 0.3, false),
-            base,
-            Modify::Mirror,
-            3.0,
-            BOTH,
-            match model {
-                Model::Linear => NONE,
-                Model::NeoHookean => BOTH,
-                _ => CPU,
-            },
-        );
+        let d = format!("{} cube 3³ cells, E 2e6 Pa, mirrored (every tetrahedron inverted), no gravity", model.name());
+        let quick = match model {
+            Model::Linear => NONE,
+            Model::NeoHookean => BOTH,
+            _ => CPU,
+        };
+        add(name, "inverted", d, "cube", cube(model, 2.0e6, 0.3, false), base, Modify::Mirror, 3.0, BOTH, quick);
     }
     // Collapsed to a point.
     let collapse = Modify::Collapse { radius: 1.0e-6, seed: 7 };
@@ -194,18 +185,8 @@ pub fn cases() -> Vec<Case> {
         ("poisson-0.49-stvk", Model::StVK, NONE),
         ("poisson-0.49-linear", Model::Linear, NONE),
     ] {
-        add(
-            name,
-            "Poisson 0.49",
-            format!("{} cube 3³ cells, E 2e6 Pa, ν 0.49, dropped on the ground", model.name()),
-            "cube",
-            cube(model, 2.0e6, 0.49, true),
-            base,
-            Modify::None,
-            3.0,
-            BOTH,
-            quick,
-        );
+        let d = format!("{} cube 3³ cells, E 2e6 Pa, ν 0.49, dropped on the ground", model.name());
+        add(name, "Poisson 0.49", d, "cube", cube(model, 2.0e6, 0.49, true), base, Modify::None, 3.0, BOTH, quick);
     }
     // Huge initial velocities.
     add(

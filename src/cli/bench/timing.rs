@@ -133,23 +133,20 @@ mod tests {
 
     #[test]
     fn budget_bounds_the_frame_count() {
+        // Frames measured and frames run (warm-up included) under budget `b`.
+        let counts = |b: &Budget| {
+            let mut calls = 0;
+            let t = time_frames(b, || {
+                calls += 1;
+                Ok(())
+            })
+            .unwrap();
+            (t.frames, calls)
+        };
         let b = Budget { warm_frames: 3, warm_seconds: 10.0, frames: 7, min_frames: 2, seconds: 10.0 };
-        let mut calls = 0;
-        let t = time_frames(&b, || {
-            calls += 1;
-            Ok(())
-        })
-        .unwrap();
-        assert_eq!((t.frames, calls), (7, 10));
+        assert_eq!(counts(&b), (7, 10));
         // A zero time limit still measures `min_frames`.
-        let b = Budget { seconds: 0.0, warm_seconds: 0.0, ..b };
-        let mut calls = 0;
-        let t = time_frames(&b, || {
-            calls += 1;
-            Ok(())
-        })
-        .unwrap();
-        assert_eq!((t.frames, calls), (2, 3));
+        assert_eq!(counts(&Budget { seconds: 0.0, warm_seconds: 0.0, ..b }), (2, 3));
     }
 
     /// A frame that only writes `name` to `log`.

@@ -5,6 +5,7 @@ use super::{
     FamilyKernels, GpuFamily, GpuLedger, GpuProjection, GpuSolver, PARTIAL_SLOTS, Result, entry, read_buffer,
     reduce_groups, storage_buffer,
 };
+use crate::gpu::kernels::dispatch;
 
 /// Buffers of the energy reduction and the projection (allocated when first needed).
 #[derive(Debug)]
@@ -45,14 +46,12 @@ impl GpuSolver {
         let Some(e) = &self.energy else { return };
         let k = self.kernels.energy();
         pass.set_bind_group(3, &e.bind_group, &[]);
-        pass.set_pipeline(&k.particles);
-        pass.dispatch_workgroups(reduce_groups(self.n), 1, 1);
+        dispatch(pass, &k.particles, reduce_groups(self.n));
         for (f, fk) in families {
             self.dispatch_family(pass, &fk.energy, f, None, reduce_groups(f.len));
         }
-        pass.set_pipeline(&k.total);
         pass.set_bind_group(2, &self.range_bind_group, &[self.total_offsets[mode]]);
-        pass.dispatch_workgroups(1, 1, 1);
+        dispatch(pass, &k.total, 1);
     }
 
     /// Allocates the reduction's buffers (once).

@@ -7,6 +7,7 @@
 
 use super::{FamilyKernels, GpuFamily, GpuProjection, GpuSolver, groups, read_buffer, reduce_groups};
 use crate::error::Result;
+use crate::gpu::kernels::dispatch;
 use crate::solver::{EnergyAware, Settings};
 
 /// What the projection does around one frame.
@@ -55,21 +56,16 @@ impl GpuSolver {
         let k = self.kernels.energy();
         let mode = self.total_offsets[usize::from(!start)];
         pass.set_bind_group(3, &e.bind_group, &[]);
-        pass.set_pipeline(&k.projection_moments);
-        pass.dispatch_workgroups(reduce_groups(self.n), 1, 1);
+        dispatch(pass, &k.projection_moments, reduce_groups(self.n));
         pass.set_bind_group(2, &self.range_bind_group, &[mode]);
-        pass.set_pipeline(&k.projection_rigid);
-        pass.dispatch_workgroups(1, 1, 1);
+        dispatch(pass, &k.projection_rigid, 1);
         if !start {
-            pass.set_pipeline(&k.projection_deform);
-            pass.dispatch_workgroups(reduce_groups(self.n), 1, 1);
+            dispatch(pass, &k.projection_deform, reduce_groups(self.n));
         }
         pass.set_bind_group(2, &self.range_bind_group, &[mode]);
-        pass.set_pipeline(&k.projection_scale);
-        pass.dispatch_workgroups(1, 1, 1);
+        dispatch(pass, &k.projection_scale, 1);
         if !start {
-            pass.set_pipeline(&k.projection_apply);
-            pass.dispatch_workgroups(groups(self.n), 1, 1);
+            dispatch(pass, &k.projection_apply, groups(self.n));
         }
     }
 

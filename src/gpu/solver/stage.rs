@@ -5,6 +5,7 @@ use glam::{Vec3, Vec4};
 
 use super::{FamilyKernels, GpuFamily, GpuSolver, Run, groups, read_buffer, self_collision};
 use crate::error::{Error, Result};
+use crate::gpu::kernels::dispatch;
 use crate::scene::FAMILY_COUNT;
 use crate::solver::stages::Stage;
 use crate::solver::{EnergyAware, Settings};
@@ -31,8 +32,7 @@ impl GpuSolver {
             Stage::ProjectionStart => self.encode_projection(pass, families, true),
             Stage::BalanceStart => self.encode_energy(pass, families, 0),
             Stage::Predict => {
-                pass.set_pipeline(&k.predict);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                dispatch(pass, &k.predict, particle_groups);
             }
             Stage::Clear => {
                 for (f, fk) in families {
@@ -100,12 +100,10 @@ impl GpuSolver {
             Stage::SelfPairs => self.encode_self_pairs(pass),
             Stage::SelfCollision => self.encode_self_collision(pass),
             Stage::Contacts => {
-                pass.set_pipeline(&k.contacts);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                dispatch(pass, &k.contacts, particle_groups);
             }
             Stage::Finish => {
-                pass.set_pipeline(&k.finish);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                dispatch(pass, &k.finish, particle_groups);
             }
             Stage::Balance => {
                 let Some(e) = &self.energy else { return };
