@@ -66,6 +66,20 @@ fn log_slider<'a, N: egui::emath::Numeric>(
 /// The splits of 30 projections a frame offered as one click each: (name, substeps, iterations).
 pub const SPLITS: [(&str, u32, u32); 3] = [("paper", 1, 30), ("balanced", 10, 3), ("small steps", 30, 1)];
 
+/// A labelled row of radio buttons choosing `value` among `options` (value, text); `hint`, when
+/// not empty, shows over the label.
+fn radio_row<T: PartialEq + Copy>(ui: &mut Ui, (label, hint): (&str, &str), value: &mut T, options: &[(T, &str)]) {
+    ui.horizontal(|ui| {
+        let label = ui.label(label);
+        if !hint.is_empty() {
+            label.on_hover_text(hint);
+        }
+        for &(v, text) in options {
+            ui.radio_value(value, v, text);
+        }
+    });
+}
+
 /// The control panel: scene, material, solver, simulation buttons and view options.
 pub fn controls(ui: &mut Ui, state: &mut ViewerState, info: &SceneInfo) {
     ui.heading("eapbd");
@@ -112,21 +126,19 @@ fn scene_controls(ui: &mut Ui, state: &mut ViewerState) {
     }
     ui.checkbox(&mut c.gravity, "Gravity").on_hover_text("g = 9.81 m/s² downwards.");
     if c.solid {
-        ui.horizontal(|ui| {
-            ui.label("Tetrahedra").on_hover_text(
-                "volume: a tetrahedral mesh of the body; centroid: the paper's surface triangles joined to the centre.",
-            );
-            ui.radio_value(&mut c.tets, TetMode::Volume, "volume");
-            ui.radio_value(&mut c.tets, TetMode::Centroid, "centroid");
-        });
+        let hint =
+            "volume: a tetrahedral mesh of the body; centroid: the paper's surface triangles joined to the centre.";
+        radio_row(
+            ui,
+            ("Tetrahedra", hint),
+            &mut c.tets,
+            &[(TetMode::Volume, "volume"), (TetMode::Centroid, "centroid")],
+        );
     }
     if c.is_cloth() {
-        ui.horizontal(|ui| {
-            ui.label("Diagonals")
-                .on_hover_text("How each grid quad is split into triangles: all alike, or in a checkerboard.");
-            ui.radio_value(&mut c.diagonals, Diagonals::Uniform, "uniform");
-            ui.radio_value(&mut c.diagonals, Diagonals::Alternating, "alternating");
-        });
+        let hint = "How each grid quad is split into triangles: all alike, or in a checkerboard.";
+        let options = [(Diagonals::Uniform, "uniform"), (Diagonals::Alternating, "alternating")];
+        radio_row(ui, ("Diagonals", hint), &mut c.diagonals, &options);
         let mut on = c.self_collides();
         let hint = "Particles kept a thickness (1.2 × the grid's spacing) apart inside the iteration loop, so \
                     the cloth cannot pass through itself.";
@@ -209,20 +221,17 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
         .on_hover_text("The frame's time step dt (s).");
     ui.add(Slider::new(&mut s.damping, 0.0..=5.0).text("Damping").suffix(" 1/s"))
         .on_hover_text("Velocity damping β_v (1/s): v ← v max(1 − β_v h, 0) every substep.");
-    ui.horizontal(|ui| {
-        ui.label("Form");
-        ui.radio_value(&mut s.form, Form::Compliant, "compliant");
-        ui.radio_value(&mut s.form, Form::Energy, "energy");
-    });
+    radio_row(ui, ("Form", ""), &mut s.form, &[(Form::Compliant, "compliant"), (Form::Energy, "energy")]);
     if s.form == Form::Energy {
         ui.add(log_slider(&mut s.energy_compliance, 1.0e-9..=1.0e-1, "Energy compliance", ""))
             .on_hover_text("Compliance α of the energy form C = E (1/J): 0 would enforce E = 0 exactly.");
     }
-    ui.horizontal(|ui| {
-        ui.label("Iteration");
-        ui.radio_value(&mut s.method, Method::GaussSeidel, "Gauss-Seidel");
-        ui.radio_value(&mut s.method, Method::Jacobi, "Jacobi");
-    });
+    radio_row(
+        ui,
+        ("Iteration", ""),
+        &mut s.method,
+        &[(Method::GaussSeidel, "Gauss-Seidel"), (Method::Jacobi, "Jacobi")],
+    );
     if s.method == Method::Jacobi {
         ui.add(Slider::new(&mut s.jacobi_omega, 0.1..=1.9).text("Jacobi ω"))
             .on_hover_text("Relaxation ω of the averaged Jacobi corrections (dimensionless).");
@@ -240,11 +249,7 @@ fn solver_controls(ui: &mut Ui, state: &mut ViewerState) {
         );
     });
     ui.add(Slider::new(&mut s.sor, 0.1..=1.9).text("SOR ω")).on_hover_text("Over-relaxation ω of every Δλ (1: none).");
-    ui.horizontal(|ui| {
-        ui.label("Backend");
-        ui.radio_value(&mut state.backend, Backend::Gpu, "GPU");
-        ui.radio_value(&mut state.backend, Backend::Cpu, "CPU");
-    });
+    radio_row(ui, ("Backend", ""), &mut state.backend, &[(Backend::Gpu, "GPU"), (Backend::Cpu, "CPU")]);
 }
 
 fn simulation_buttons(ui: &mut Ui, state: &mut ViewerState) {
