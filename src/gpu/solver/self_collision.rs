@@ -8,7 +8,7 @@ use wgpu::util::DeviceExt;
 
 use super::{GpuSolver, entry, groups, read_buffer, storage_buffer};
 use crate::error::Result;
-use crate::gpu::kernels::Kernels;
+use crate::gpu::kernels::{Kernels, dispatch};
 use crate::scene::SelfCollision;
 use crate::solver::self_collision::{CAPACITY, inv_count, margin, neighbour_distance, reach, table_size};
 
@@ -119,8 +119,7 @@ impl GpuSolver {
             (&k.find, particles),
         ];
         for (pipeline, workgroups) in list {
-            pass.set_pipeline(pipeline);
-            pass.dispatch_workgroups(workgroups, 1, 1);
+            dispatch(pass, pipeline, workgroups);
         }
     }
 
@@ -132,8 +131,7 @@ impl GpuSolver {
         pass.set_bind_group(1, &sb.bind_group, &[]);
         let list: [&wgpu::ComputePipeline; PASS_DISPATCHES] = [&k.project, &k.apply];
         for pipeline in list {
-            pass.set_pipeline(pipeline);
-            pass.dispatch_workgroups(groups(self.n), 1, 1);
+            dispatch(pass, pipeline, groups(self.n));
         }
     }
 

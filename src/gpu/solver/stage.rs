@@ -41,9 +41,8 @@ impl GpuSolver {
             }
             Stage::LocalBegin => {
                 let Some(lg) = local_groups else { return };
-                pass.set_pipeline(&k.local().begin);
                 pass.set_bind_group(3, lg, &[]);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                dispatch(pass, &k.local().begin, particle_groups);
                 for (f, fk) in families {
                     if let Some(fl) = &f.local {
                         self.dispatch_family(pass, &fk.local_begin, f, Some(fl), groups(f.len));
@@ -52,9 +51,8 @@ impl GpuSolver {
             }
             Stage::LocalSnapshot => {
                 let Some(lg) = local_groups else { return };
-                pass.set_pipeline(&k.local().snapshot);
                 pass.set_bind_group(3, lg, &[]);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                dispatch(pass, &k.local().snapshot, particle_groups);
             }
             Stage::Sweep { family, color } => {
                 let Some((f, fk)) = families.iter().find(|(f, _)| f.kind as usize == family) else { return };
@@ -92,9 +90,8 @@ impl GpuSolver {
                     }
                 }
                 if let Some(j) = &self.jacobi {
-                    pass.set_pipeline(k.jacobi_apply());
                     pass.set_bind_group(1, &j.apply_bind_group, &[]);
-                    pass.dispatch_workgroups(particle_groups, 1, 1);
+                    dispatch(pass, k.jacobi_apply(), particle_groups);
                 }
             }
             Stage::SelfPairs => self.encode_self_pairs(pass),
@@ -108,9 +105,8 @@ impl GpuSolver {
             Stage::Balance => {
                 let Some(e) = &self.energy else { return };
                 self.encode_energy(pass, families, 1);
-                pass.set_pipeline(&k.energy().apply_scale);
                 pass.set_bind_group(3, &e.bind_group, &[]);
-                pass.dispatch_workgroups(particle_groups, 1, 1);
+                dispatch(pass, &k.energy().apply_scale, particle_groups);
             }
             Stage::Projection => self.encode_projection(pass, families, start_after),
         }

@@ -102,13 +102,13 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     {
         event_loop.run_app(&mut app).map_err(|e| Error::NoDisplay(e.to_string()))?;
         if let (Some(t), Some(r)) = (app.started, &app.window) {
-            let secs = t.elapsed().as_secs_f64();
+            let (secs, fps) = run_time(app.frames, Some(t));
             let t = &r.session.timings;
             let ms = |v: Option<f64>| v.map_or("–".into(), |ms| format!("{ms:.2}"));
             eprintln!(
                 "viewer: {} frames in {secs:.2} s ({:.1} FPS); ms/frame: solver {}, panels {}, drawing {}; on {}",
                 app.frames,
-                mean_fps(app.frames, app.started),
+                fps,
                 ms(t.solver_ms),
                 ms(t.ui_ms),
                 ms(t.draw_ms),
@@ -119,9 +119,11 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     }
 }
 
-/// Frames per second since `started` (the first frame's window), over `frames` frames.
-fn mean_fps(frames: u32, started: Option<Instant>) -> f64 {
-    frames as f64 / started.map_or(0.0, |t| t.elapsed().as_secs_f64()).max(1e-9)
+/// Seconds since `started` (the first frame's window) and the mean frames per second over
+/// `frames` frames, from one reading of the clock.
+fn run_time(frames: u32, started: Option<Instant>) -> (f64, f64) {
+    let secs = started.map_or(0.0, |t| t.elapsed().as_secs_f64());
+    (secs, frames as f64 / secs.max(1e-9))
 }
 
 /// What a mouse drag in the scene does.
@@ -227,7 +229,7 @@ impl App {
                     // A browser maps the capture later; `web::post` sends it when it has.
                     #[cfg(target_arch = "wasm32")]
                     let result = match &self.options.post_to {
-                        Some(url) => r.post(url, self.options.post_panels, mean_fps(self.frames, self.started)),
+                        Some(url) => r.post(url, self.options.post_panels, run_time(self.frames, self.started).1),
                         None => Ok(()),
                     };
                     match result {
