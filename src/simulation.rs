@@ -51,6 +51,53 @@ impl Simulation {
         }
     }
 
+    /// Takes the positions and velocities of `old`, a simulation of the same particles on
+    /// either backend (a rebuilt scene, another backend); from the GPU to the CPU, those of
+    /// `latest` where given (a snapshot: a browser cannot wait for a read-back).
+    pub fn take_state(
+        &mut self,
+        old: &Simulation,
+        ctx: &GpuContext,
+        latest: Option<(Vec<Vec3>, Vec<Vec3>)>,
+    ) -> Result<()> {
+        match (old, self) {
+            (Simulation::Cpu(a), Simulation::Cpu(b)) => {
+                b.particles.x.clone_from(&a.particles.x);
+                b.particles.v.clone_from(&a.particles.v);
+            }
+            (Simulation::Gpu(a), Simulation::Gpu(b)) => {
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                enc.copy_buffer_to_buffer(&a.x, 0, &b.x, 0, a.x.size().min(b.x.size()));
+                let (va, vb) = (a.velocities(), b.velocities());
+                enc.copy_buffer_to_buffer(va, 0, vb, 0, va.size().min(vb.size()));
+                ctx.queue.submit([enc.finish()]);
+            }
+            (Simulation::Cpu(a), Simulation::Gpu(b)) => {
+                let w = &b.scene().inv_mass;
+                let x: Vec<Vec4> = a.particles.x.iter().zip(w).map(|(p, &w)| p.extend(w)).collect();
+                let v: Vec<Vec4> = a.particles.v.iter().map(|p| p.extend(0.0)).collect();
+                ctx.queue.write_buffer(&b.x, 0, bytemuck::cast_slice(&x));
+                ctx.queue.write_buffer(b.velocities(), 0, bytemuck::cast_slice(&v));
+            }
+            (Simulation::Gpu(a), Simulation::Cpu(b)) => {
+                let (x, v) = match latest {
+                    Some(state) => state,
+                    None => {
+                        let st = a.read_state()?;
+                        (st.x, st.v)
+                    }
+                };
+                if x.len() != b.particles.len() || v.len() != x.len() {
+                    let (n, m) = (b.particles.len(), x.len().min(v.len()));
+                    return Err(Error::Gpu(format!("a state of {m} particles taken into a simulation of {n}")));
+                }
+                b.particles.x = x.iter().map(|&p| p.into()).collect();
+                b.particles.v = v.iter().map(|&v| v.into()).collect();
+            }
+        }
+        Ok(())
+    }
+
     /// Advances one frame (on the GPU: records and submits it without waiting).
     pub fn step_frame(&mut self, s: &Settings) {
         match self {

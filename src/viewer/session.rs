@@ -6,7 +6,7 @@
 use std::sync::Arc;
 use web_time::Instant;
 
-use glam::{Vec2, Vec3, Vec4};
+use glam::{Vec2, Vec3};
 
 use super::grab::Grab;
 use super::orbit::Orbit;
@@ -17,7 +17,7 @@ use super::readback::StatsReadback;
 use super::state::{ColorMode, SceneChoice, ViewerState};
 use super::strain::{StrainPass, ramp_colors, vertex_energy};
 use crate::compare::Compare;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::gpu::{GpuContext, Kernels};
 use crate::metrics::FrameStats;
 use crate::render::{Camera, FrameViews, LineSet, Renderer, SceneView};
@@ -257,7 +257,7 @@ impl Session {
         // The old scene's snapshot; a browser carries its state from it.
         let latest = self.latest.take().filter(|_| cfg!(target_arch = "wasm32"));
         if same_mesh {
-            transfer(&self.sim, &mut sim, ctx, latest)?;
+            sim.take_state(&self.sim, ctx, latest)?;
         } else {
             self.frame = 0;
             self.history.clear();
@@ -570,49 +570,4 @@ struct DrawData {
     groups: Vec<GroupView>,
     wire: LineSet,
     readback: Option<StatsReadback>,
-}
-
-/// Carries positions and velocities from `old` to `new` (same particles); from the GPU to the
-/// CPU, those of `latest` where given (a snapshot: a browser cannot wait for a read-back).
-fn transfer(
-    old: &Simulation,
-    new: &mut Simulation,
-    ctx: &GpuContext,
-    latest: Option<(Vec<Vec3>, Vec<Vec3>)>,
-) -> Result<()> {
-    match (old, new) {
-        (Simulation::Cpu(a), Simulation::Cpu(b)) => {
-            b.particles.x.clone_from(&a.particles.x);
-            b.particles.v.clone_from(&a.particles.v);
-        }
-        (Simulation::Gpu(a), Simulation::Gpu(b)) => {
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            enc.copy_buffer_to_buffer(&a.x, 0, &b.x, 0, a.x.size().min(b.x.size()));
-            let (va, vb) = (a.velocities(), b.velocities());
-            enc.copy_buffer_to_buffer(va, 0, vb, 0, va.size().min(vb.size()));
-            ctx.queue.submit([enc.finish()]);
-        }
-        (Simulation::Cpu(a), Simulation::Gpu(b)) => {
-            let w = &b.scene().inv_mass;
-            let x: Vec<Vec4> = a.particles.x.iter().zip(w).map(|(p, &w)| p.extend(w)).collect();
-            let v: Vec<Vec4> = a.particles.v.iter().map(|p| p.extend(0.0)).collect();
-            ctx.queue.write_buffer(&b.x, 0, bytemuck::cast_slice(&x));
-            ctx.queue.write_buffer(b.velocities(), 0, bytemuck::cast_slice(&v));
-        }
-        (Simulation::Gpu(a), Simulation::Cpu(b)) => {
-            let (x, v) = match latest {
-                Some(state) => state,
-                None => {
-                    let st = a.read_state()?;
-                    (st.x, st.v)
-                }
-            };
-            if x.len() != b.particles.len() || v.len() != x.len() {
-                return Err(Error::Gpu("state size mismatch".into()));
-            }
-            b.particles.x = x.iter().map(|&p| p.into()).collect();
-            b.particles.v = v.iter().map(|&v| v.into()).collect();
-        }
-    }
-    Ok(())
 }
