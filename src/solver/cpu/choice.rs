@@ -1,7 +1,10 @@
-//! Whether a frame runs on the team or on one thread: a team frame whose threads slept at many
-//! waits (the cores may be busy with other work) is checked against one frame on one thread, and
-//! a faster frame on one thread against one more team frame (the suspect frame may only have met
-//! the host taking a core away for a while).
+//! Whether a frame runs on the team or on one thread. A team frame is checked against one frame
+//! on one thread at the start, again after every [`TRUSTED_FRAMES`] frames the team ran
+//! unchecked, and at once after a team frame whose threads slept at many waits (the cores may be
+//! busy with other work); a faster frame on one thread is checked against one more team frame
+//! (the team frame may only have met the host taking a core away for a while). Where the team
+//! loses (small groups on cores far apart, whose every meeting costs more than the work it
+//! splits, or cores busy with other work) the frames run on one thread.
 
 use std::time::Duration;
 
@@ -11,12 +14,12 @@ const ALONE_FRAMES: u32 = 30;
 /// Frames the team runs unchecked once it was found faster than one thread.
 const TRUSTED_FRAMES: u32 = 120;
 
-/// How the next frame runs: the team, unless a suspect team frame (see `team::BUSY_FRACTION`) was
-/// followed by a faster frame on one thread, and that by a team frame slower than it. The
-/// positions are the same either way; only the time changes.
+/// How the next frame runs: the team, unless a checked team frame was followed by a faster frame
+/// on one thread, and that by a team frame slower than it. The positions are the same either way;
+/// only the time changes.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(super) enum Choice {
-    /// The team, checked after each frame.
+    /// The team, for one frame that is then checked.
     #[default]
     Team,
     /// One frame on one thread, to compare with the suspect team frame's time.
@@ -38,11 +41,12 @@ impl Choice {
     }
 
     /// The choice after a frame that took `time`; `busy`: a team frame that slept at many
-    /// barriers.
+    /// barriers (see `team::BUSY_FRACTION`).
     pub fn next(self, time: Duration, busy: bool) -> Choice {
         match self {
-            Choice::Team if busy => Choice::Check(time),
-            Choice::Team | Choice::Trusted(1) | Choice::Alone(1) => Choice::Team,
+            Choice::Team => Choice::Check(time),
+            Choice::Trusted(_) if busy => Choice::Check(time),
+            Choice::Trusted(1) | Choice::Alone(1) => Choice::Team,
             Choice::Trusted(n) => Choice::Trusted(n - 1),
             Choice::Alone(n) => Choice::Alone(n - 1),
             Choice::Check(team) if time < team => Choice::Retry(time),
@@ -58,34 +62,38 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_suspect_team_frame_is_checked_against_one_thread() {
+    fn a_team_frame_is_checked_against_one_thread() {
         let ms = Duration::from_millis;
-        assert_eq!(Choice::Team.next(ms(10), false), Choice::Team);
+        // Every team frame in the `Team` state is checked, busy or not.
+        assert_eq!(Choice::Team.next(ms(10), false), Choice::Check(ms(10)));
         let check = Choice::Team.next(ms(36), true);
         assert_eq!(check, Choice::Check(ms(36)));
         assert!(!check.team());
-        // One thread was faster: the team runs one more frame; slower again (busy cores), one
-        // thread keeps the frames for a while, then the team is tried again.
+        // One thread was faster: the team runs one more frame; slower again, one thread keeps
+        // the frames for a while, then the team is tried again.
         let retry = check.next(ms(17), false);
         assert_eq!(retry, Choice::Retry(ms(17)));
         assert!(retry.team());
-        let mut c = retry.next(ms(30), true);
+        let mut c = retry.next(ms(30), false);
         assert_eq!(c, Choice::Alone(ALONE_FRAMES));
         for _ in 0..ALONE_FRAMES {
             assert!(!c.team());
             c = c.next(ms(17), false);
         }
         assert_eq!(c, Choice::Team);
-        // The retried team frame was faster than one thread (the suspect frame met one stall of
+        // The retried team frame was faster than one thread (the checked frame met one stall of
         // the host's): the team runs unchecked for a while.
         assert_eq!(Choice::Retry(ms(8)).next(ms(5), false), Choice::Trusted(TRUSTED_FRAMES));
-        // The team was faster (long groups, not busy cores): it runs unchecked for a while.
+        // The team was faster: it runs unchecked for a while, then is checked again.
         let mut c = Choice::Check(ms(160)).next(ms(260), false);
         assert_eq!(c, Choice::Trusted(TRUSTED_FRAMES));
         for _ in 0..TRUSTED_FRAMES {
             assert!(c.team());
-            c = c.next(ms(160), true);
+            c = c.next(ms(160), false);
         }
         assert_eq!(c, Choice::Team);
+        assert_eq!(c.next(ms(160), false), Choice::Check(ms(160)));
+        // A team frame that slept at many waits is checked at once, trusted or not.
+        assert_eq!(Choice::Trusted(50).next(ms(40), true), Choice::Check(ms(40)));
     }
 }
