@@ -103,6 +103,10 @@ fn absurd_parameters_are_refused_with_a_reason() {
         assert!(!out.status.success(), "{flag} {value} accepted");
         assert!(err.contains(flag) && !err.contains("panicked"), "{flag}: {err}");
     }
+    // A box scene of billions of tetrahedra is refused before anything is allocated.
+    let out = eapbd(&["simulate", "--scene", "cube", "--resolution", "2048", "--frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--resolution") && err.contains("at most 140"), "{err}");
     let out = eapbd(&["simulate", "--frames", "1", "--export-obj", "/nonexistent-dir/x.obj"]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("/nonexistent-dir/x.obj") && !err.contains("panicked"), "{err}");

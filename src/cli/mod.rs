@@ -111,8 +111,8 @@ pub struct SceneArgs {
     /// volume bodies: lattice cells along the longest side (default 16).
     #[arg(long)]
     pub lattice: Option<u32>,
-    /// Particles per side of a cloth (default 41); cells along the beam (10) or along each side
-    /// of the cube (4).
+    /// Particles per side of a cloth (default 41, at most 2048); cells along the beam (10, at
+    /// most 414) or along each side of the cube (4, at most 140).
     #[arg(long)]
     pub resolution: Option<u32>,
     /// Small-strain spring stiffness k_s (N/m).

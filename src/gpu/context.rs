@@ -40,6 +40,11 @@ impl GpuContext {
             .limits()
             .max_storage_buffers_per_shader_stage
             .clamp(required_limits.max_storage_buffers_per_shader_stage, 16);
+        // Scene-sized buffers as large as the adapter allows (wgpu's defaults stop at 256 MiB a
+        // buffer and 128 MiB a storage binding; larger scenes are refused by name,
+        // `memory::check_fits`).
+        required_limits.max_buffer_size = adapter.limits().max_buffer_size;
+        required_limits.max_storage_buffer_binding_size = adapter.limits().max_storage_buffer_binding_size;
         // GPU timings (the viewer's solver time) where the adapter has timestamps.
         let required_features =
             adapter.features() & (wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);

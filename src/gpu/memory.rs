@@ -30,3 +30,65 @@ impl GpuMemory {
         self.particles + self.constraints + self.fixed + self.jacobi + self.energy + self.local + self.self_collision
     }
 }
+
+/// The largest device buffer a [`super::GpuSolver`] may create for `scene`, by what it holds,
+/// and its size (bytes): the particles' (positions with inverse masses, 16 bytes a particle; the
+/// local mode's snapshots, 32), each family's elements and multipliers `λ` (4 bytes an element),
+/// Jacobi's corrections (16 bytes a slot, `arity` slots an element) and the self-collision's
+/// candidate lists (`(2 + CAPACITY) × 4` bytes a particle). Each is bound whole, so each must fit
+/// the device's `max_buffer_size` and `max_storage_buffer_binding_size`.
+pub fn largest_buffer(scene: &crate::scene::Scene) -> (&'static str, u64) {
+    let n = scene.num_particles() as u64;
+    let mut slots = 0u64;
+    let mut sizes = vec![("particle positions", 16 * n), ("local-mode snapshots", 32 * n)];
+    crate::for_each_family!(scene, |i, f| {
+        let name = super::FamilyKind::ALL[i].name();
+        sizes.push((name, std::mem::size_of_val(&f.elements[..]) as u64));
+        sizes.push(("multipliers", 4 * f.len() as u64));
+        slots += (super::FamilyKind::ALL[i].arity() as u64) * f.len() as u64;
+    });
+    sizes.push(("Jacobi corrections", 16 * slots));
+    if scene.self_collision.is_some() {
+        let capacity = crate::solver::self_collision::CAPACITY as u64;
+        sizes.push(("self-collision candidates", (2 + capacity) * 4 * n));
+    }
+    sizes.into_iter().max_by_key(|&(_, size)| size).unwrap_or(("particle positions", 0))
+}
+
+/// `Ok` when [`largest_buffer`] of `scene` fits `limits`, else an error naming the buffer, its
+/// size and the device's limit.
+pub fn check_fits(scene: &crate::scene::Scene, limits: &wgpu::Limits) -> crate::error::Result<()> {
+    let (what, size) = largest_buffer(scene);
+    let limit = limits.max_buffer_size.min(limits.max_storage_buffer_binding_size);
+    if size <= limit {
+        return Ok(());
+    }
+    let mb = |b: u64| b as f64 / (1024.0 * 1024.0);
+    Err(crate::error::Error::Gpu(format!(
+        "this scene needs a GPU buffer of {:.0} MiB ({what}, {} particles), more than this device \
+         allows in one buffer ({:.0} MiB): run it on the CPU (--backend cpu) or make it smaller",
+        mb(size),
+        scene.num_particles(),
+        mb(limit)
+    )))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{SceneOptions, build};
+
+    #[test]
+    fn a_scene_too_large_for_the_device_is_refused_with_its_figures() {
+        let cube = build("cube", &SceneOptions { resolution: Some(10), ..SceneOptions::default() }).expect("cube");
+        // 6 000 tetrahedra of 64 bytes, and as many bytes of Jacobi's corrections (4 slots of 16).
+        assert_eq!(largest_buffer(&cube).1, 6000 * 64);
+        assert!(check_fits(&cube, &wgpu::Limits::default()).is_ok());
+        let small = wgpu::Limits { max_storage_buffer_binding_size: 100_000, ..wgpu::Limits::default() };
+        let err = check_fits(&cube, &small).expect_err("refused").to_string();
+        assert!(err.contains("MiB") && err.contains("--backend cpu"), "{err}");
+        // A cloth with self-collision: its candidate lists are the largest.
+        let drape = build("cloth-drape", &SceneOptions { resolution: Some(16), ..SceneOptions::default() }).unwrap();
+        assert_eq!(largest_buffer(&drape).0, "self-collision candidates");
+    }
+}

@@ -200,8 +200,10 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 }
 
 impl GpuSolver {
-    /// Uploads `scene` to the device of `kernels`.
+    /// Uploads `scene` to the device of `kernels`; `Err` naming the buffer when the scene needs
+    /// one larger than the device allows ([`super::memory::check_fits`]).
     pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
+        super::memory::check_fits(&scene, &device.limits())?;
         let n = scene.num_particles() as u32;
         let x4: Vec<Vec4> = scene.positions.iter().zip(&scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
         let bytes = bytemuck::cast_slice(&x4);

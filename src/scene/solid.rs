@@ -21,18 +21,28 @@ pub(super) enum Kind {
 /// Density of the volumetric bodies (kg/m³).
 pub const DENSITY: f32 = 1000.0;
 
+/// The most tetrahedra a box scene may have (2²⁴, about 3 GiB of solver state on the CPU):
+/// `--resolution` up to 140 for the cube, 414 for the beam.
+pub const MAX_BOX_TETS: u64 = 1 << 24;
+
 pub(super) fn build(kind: Kind, o: &SceneOptions) -> Result<Scene> {
-    let (mesh, name) = match kind {
+    let (cells, corners, name) = match kind {
         Kind::Beam => {
             let n = o.resolution.unwrap_or(10);
             let across = (n / 5).max(1);
-            (TetMesh::box_grid([n, across, across], Vec3::new(-0.5, 0.9, -0.1), Vec3::new(0.5, 1.1, 0.1)), "beam")
+            ([n, across, across], (Vec3::new(-0.5, 0.9, -0.1), Vec3::new(0.5, 1.1, 0.1)), "beam")
         }
         Kind::Cube => {
             let n = o.resolution.unwrap_or(4);
-            (TetMesh::box_grid([n, n, n], Vec3::new(-0.15, 0.4, -0.15), Vec3::new(0.15, 0.7, 0.15)), "cube")
+            ([n, n, n], (Vec3::new(-0.15, 0.4, -0.15), Vec3::new(0.15, 0.7, 0.15)), "cube")
         }
     };
+    // Six tetrahedra a cell.
+    if 6 * cells.iter().map(|&c| c as u64).product::<u64>() > MAX_BOX_TETS {
+        let reason = "more than 2^24 (16.8 million) tetrahedra: at most 140 for the cube, 414 for the beam";
+        return Err(Error::param("--resolution", cells[0], reason));
+    }
+    let mesh = TetMesh::box_grid(cells, corners.0, corners.1);
     let mesh = match o.tets {
         TetMode::Volume => mesh,
         TetMode::Centroid => TetMesh::centroid_fan(&mesh.positions, &mesh.boundary())?,
