@@ -60,6 +60,13 @@ fn bad_obj_files_get_their_specific_errors() {
     // ... but the springs body takes it.
     let opts = SceneOptions { body: Some(Body::Springs), ..SceneOptions::default() };
     assert!(scene::build_with_surface("bunny", &opts, quad).is_ok());
+    // A surface with no height to scale to the bunny's, or a sliver a billion times wider than
+    // tall, is refused rather than simulated at absurd sizes.
+    for text in [&b"v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\n"[..], b"v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n"] {
+        let sliver = parse_obj(text).unwrap();
+        let e = scene::build_with_surface("bunny", &opts, sliver).unwrap_err().to_string();
+        assert!(e.contains("needs a height"), "{e}");
+    }
     let missing = eapbd::mesh::load_obj(std::path::Path::new("/nonexistent/bunny.obj")).unwrap_err().to_string();
     assert!(missing.contains("/nonexistent/bunny.obj"), "{missing}");
 }

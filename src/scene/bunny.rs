@@ -57,18 +57,32 @@ const DEFAULT_BENDING: f32 = 1.0e-3;
 
 /// The bunny, scaled to [`HEIGHT`], its base centred at the origin on y = 0.
 pub fn bunny_surface() -> Result<TriMesh> {
-    Ok(normalized(parse_obj(BUNNY_OBJ)?))
+    normalized(parse_obj(BUNNY_OBJ)?)
 }
 
-/// `surface` scaled uniformly to [`HEIGHT`] tall and moved so its base is centred on the origin.
-fn normalized(mut surface: TriMesh) -> TriMesh {
+/// The widest a mesh may be for its height (`--mesh`): scaled to [`HEIGHT`] tall, a wider one
+/// would span hundreds of metres, far beyond the precision its particles keep.
+pub const MAX_ASPECT: f32 = 1000.0;
+
+/// `surface` scaled uniformly to [`HEIGHT`] tall and moved so its base is centred on the origin;
+/// an error when it has next to no height for its width ([`MAX_ASPECT`]) or a triangle of zero
+/// area at that scale.
+fn normalized(mut surface: TriMesh) -> Result<TriMesh> {
     let (lo, hi) = surface.positions.iter().fold((Vec3::MAX, Vec3::MIN), |(a, b), &p| (a.min(p), b.max(p)));
-    let scale = HEIGHT / (hi.y - lo.y).max(1e-12);
+    let (height, widest) = (hi.y - lo.y, (hi - lo).max_element());
+    if !(height * MAX_ASPECT >= widest && height > 0.0) {
+        return Err(Error::InvalidMesh(format!(
+            "the mesh is {height:e} tall and {widest:e} wide: scaled to {HEIGHT} m tall, it needs a height of at \
+             least 1/{MAX_ASPECT} of its width"
+        )));
+    }
+    let scale = HEIGHT / height;
     let base = Vec3::new(0.5 * (lo.x + hi.x), lo.y, 0.5 * (lo.z + hi.z));
     for p in &mut surface.positions {
         *p = (*p - base) * scale;
     }
-    surface
+    surface.validate()?;
+    Ok(surface)
 }
 
 /// Builds a bunny scene from the bunny or from `surface` (a user's mesh).
@@ -76,7 +90,7 @@ pub(super) fn build(kind: Kind, o: &SceneOptions, surface: Option<TriMesh>) -> R
     let surface = match surface {
         Some(s) => {
             s.validate()?;
-            normalized(s)
+            normalized(s)?
         }
         None => bunny_surface()?,
     };
@@ -131,7 +145,7 @@ pub(super) fn build_tets(kind: Kind, o: &SceneOptions, mut tets: TetMesh) -> Res
     if let Some(i) = tets.positions.iter().position(|p| !p.is_finite()) {
         return Err(Error::InvalidMesh(format!("vertex {i} is not finite")));
     }
-    let placed = normalized(TriMesh { positions: tets.positions, triangles: Vec::new() });
+    let placed = normalized(TriMesh { positions: tets.positions, triangles: Vec::new() })?;
     tets.positions = placed.positions;
     let lift = if kind == Kind::Paper { 0.25 } else { 0.15 };
     for p in &mut tets.positions {
