@@ -216,6 +216,15 @@ fn scene_files_round_trip_and_command_line_flags_override_them() {
     let out = eapbd(&["simulate", "--scene-file", bad.to_str().unwrap()]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("bad.toml"));
+    // A negative number reaches its flag's check; a file naming another file is refused.
+    std::fs::write(&bad, "damping = -5\n").unwrap();
+    let out = eapbd(&["simulate", "--scene-file", bad.to_str().unwrap(), "--frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--damping = -5"), "{err}");
+    std::fs::write(&bad, "scene-file = \"other.toml\"\n").unwrap();
+    let out = eapbd(&["simulate", "--scene-file", bad.to_str().unwrap(), "--frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("cannot read another"), "{err}");
 }
 
 #[test]

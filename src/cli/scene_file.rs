@@ -45,13 +45,17 @@ pub fn read(path: &Path) -> anyhow::Result<Vec<OsString>> {
         text.parse().with_context(|| format!("{} is not a valid TOML scene file", path.display()))?;
     let mut flags = Vec::new();
     for (key, value) in table {
+        if key == "scene-file" {
+            bail!("{}: a scene file cannot read another ('scene-file')", path.display());
+        }
+        // `--key=value`, so that a negative number reads as the flag's value.
         let flag = format!("--{key}");
         match value {
             toml::Value::Boolean(true) => flags.push(flag.into()),
             toml::Value::Boolean(false) => {}
-            toml::Value::String(s) => flags.extend([flag.into(), s.into()]),
-            toml::Value::Integer(n) => flags.extend([flag.into(), n.to_string().into()]),
-            toml::Value::Float(x) => flags.extend([flag.into(), x.to_string().into()]),
+            toml::Value::String(s) => flags.push(format!("{flag}={s}").into()),
+            toml::Value::Integer(n) => flags.push(format!("{flag}={n}").into()),
+            toml::Value::Float(x) => flags.push(format!("{flag}={x}").into()),
             other => bail!("{}: '{key}' must be a string, number or boolean, not {}", path.display(), other.type_str()),
         }
     }
