@@ -1,7 +1,7 @@
 //! Whether a frame runs on the team or on one thread. A team frame is checked against one frame
 //! on one thread at the start, again after every [`TRUSTED_FRAMES`] frames the team ran
 //! unchecked, and at once after a team frame whose threads slept at many waits (the cores may be
-//! busy with other work); a faster frame on one thread is checked against one more team frame
+//! busy with other work) or waited longer than they worked; a faster frame on one thread is checked against one more team frame
 //! (the team frame may only have met the host taking a core away for a while). Where the team
 //! loses (small groups on cores far apart, whose every meeting costs more than the work it
 //! splits, or cores busy with other work) the frames run on one thread.
@@ -40,8 +40,8 @@ impl Choice {
         matches!(self, Choice::Team | Choice::Retry(_) | Choice::Trusted(_))
     }
 
-    /// The choice after a frame that took `time`; `busy`: a team frame that slept at many
-    /// barriers (see `team::BUSY_FRACTION`).
+    /// The choice after a frame that took `time`; `busy`: a team frame whose threads slept at
+    /// many waits (see `team::BUSY_FRACTION`) or waited longer than they worked.
     pub fn next(self, time: Duration, busy: bool) -> Choice {
         match self {
             Choice::Team => Choice::Check(time),

@@ -103,7 +103,10 @@ impl<V: Vector> CpuSolver<V> {
 
     /// The frame's substeps (`frame`: their stages, [`stages`]) on every thread of the current
     /// pool (see the module documentation); returns `true` when the threads slept at many waits
-    /// (the cores may be busy).
+    /// (the cores may be busy) or waited longer than they worked. A team whose threads wait as
+    /// long as they work takes at least twice its share of the work per frame, which one thread
+    /// does in about that time alone: the frame is then checked against one thread
+    /// ([`super::choice`]).
     #[allow(unsafe_code)]
     pub(super) fn team_substeps(&mut self, frame: &[Stage], s: &Settings, k: &StepConstants<V::S>) -> bool {
         let threads = rayon::current_num_threads();
@@ -402,7 +405,8 @@ impl<V: Vector> CpuSolver<V> {
         self.team_time.add(totals.iter().map(|t| (t.2, t.3, t.4)));
         let waits: usize = totals.iter().map(|t| t.5).sum();
         let slept = barrier.slept() + totals.iter().map(|t| t.1).sum::<usize>();
-        slept * BUSY_FRACTION > waits
+        let (worked, waited) = totals.iter().fold((Duration::ZERO, Duration::ZERO), |(a, b), t| (a + t.2, b + t.3));
+        slept * BUSY_FRACTION > waits || waited > worked
     }
 }
 
