@@ -1,10 +1,10 @@
 //! Whether a frame runs on the team or on one thread. A team frame is checked against one frame
 //! on one thread at the start, again after every [`TRUSTED_FRAMES`] frames the team ran
 //! unchecked, and at once after a team frame whose threads slept at many waits (the cores may be
-//! busy with other work) or waited longer than they worked; a faster frame on one thread is checked against one more team frame
-//! (the team frame may only have met the host taking a core away for a while). Where the team
-//! loses (small groups on cores far apart, whose every meeting costs more than the work it
-//! splits, or cores busy with other work) the frames run on one thread.
+//! busy with other work) or waited longer than they worked; a faster frame on one thread is
+//! checked against one more team frame (the team frame may only have met the host taking a core
+//! away for a while). Where the team loses (cores busy with other work, or small groups on cores
+//! whose every meeting costs more than the work it splits) the frames run on one thread.
 
 use std::time::Duration;
 
@@ -22,7 +22,7 @@ pub(super) enum Choice {
     /// The team, for one frame that is then checked.
     #[default]
     Team,
-    /// One frame on one thread, to compare with the suspect team frame's time.
+    /// One frame on one thread, to compare with the checked team frame's time.
     Check(Duration),
     /// One more team frame, to compare with the faster frame on one thread (its time): a team
     /// frame slowed by one stall of the host's is followed by a normal one, while cores busy

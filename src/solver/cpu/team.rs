@@ -103,10 +103,9 @@ impl<V: Vector> CpuSolver<V> {
 
     /// The frame's substeps (`frame`: their stages, [`stages`]) on every thread of the current
     /// pool (see the module documentation); returns `true` when the threads slept at many waits
-    /// (the cores may be busy) or waited longer than they worked. A team whose threads wait as
-    /// long as they work takes at least twice its share of the work per frame, which one thread
-    /// does in about that time alone: the frame is then checked against one thread
-    /// ([`super::choice`]).
+    /// (the cores may be busy) or waited longer than they worked. Threads that wait longer than
+    /// they work take more than twice each one's share of the work a frame, about what one thread
+    /// takes for all of it: such a frame is checked against one thread ([`super::choice`]).
     #[allow(unsafe_code)]
     pub(super) fn team_substeps(&mut self, frame: &[Stage], s: &Settings, k: &StepConstants<V::S>) -> bool {
         let threads = rayon::current_num_threads();
