@@ -15,6 +15,6 @@ pub use kernels::{
     FamilyKind, Kernels, layout as bind_group_layout, pipeline as compute_pipeline, shader_module, storage_entry,
 };
 pub use layout::{DispatchRange, GpuLedger, GpuProjection, GpuSphere, SimParams};
-pub use memory::GpuMemory;
+pub use memory::{GpuMemory, check_fits, largest_buffer};
 pub use readback::{map_and_copy, pod_vec, read_buffer};
 pub use solver::{GpuEnergies, GpuSelfPairs, GpuSolver, GpuState};

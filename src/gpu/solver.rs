@@ -201,7 +201,7 @@ fn entry(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
 
 impl GpuSolver {
     /// Uploads `scene` to the device of `kernels`; `Err` naming the buffer when the scene needs
-    /// one larger than the device allows ([`super::memory::check_fits`]).
+    /// one larger than the device allows ([`super::check_fits`]).
     pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
         super::memory::check_fits(&scene, &device.limits())?;
         let n = scene.num_particles() as u32;
