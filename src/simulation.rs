@@ -98,6 +98,15 @@ impl Simulation {
         Ok(())
     }
 
+    /// `Ok` when frames under `s` fit the backend (on the GPU, the buffers they need within the
+    /// device's limits, [`GpuSolver::check_settings`]; the CPU takes any).
+    pub fn check_settings(&self, s: &Settings) -> Result<()> {
+        match self {
+            Simulation::Cpu(_) => Ok(()),
+            Simulation::Gpu(g) => g.check_settings(s),
+        }
+    }
+
     /// Advances one frame (on the GPU: records and submits it without waiting).
     pub fn step_frame(&mut self, s: &Settings) {
         match self {

@@ -72,6 +72,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     let mut runs = Vec::with_capacity(sides.len());
     for (label, s) in sides {
         let sim = Simulation::new(a.backend, scene.clone(), Some((&ctx, &kernels)))?;
+        sim.check_settings(&s)?;
         let snap = Snapshotter::new(&ctx, &sim, a.width, a.height)?;
         runs.push((label, s, sim, snap));
     }

@@ -87,6 +87,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
     let mut sim = Simulation::new(a.backend, scene, gpu.as_ref().map(|(c, k)| (c, k)))?;
+    sim.check_settings(&settings)?;
     // Each frame's solve time (ms): the mean, and the median, which the odd frame in which the
     // host takes a core away does not move.
     let mut times = Vec::with_capacity(a.frames as usize);

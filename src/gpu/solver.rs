@@ -203,7 +203,7 @@ impl GpuSolver {
     /// Uploads `scene` to the device of `kernels`; `Err` naming the buffer when the scene needs
     /// one larger than the device allows ([`super::check_fits`]).
     pub fn new(kernels: Arc<Kernels>, device: &wgpu::Device, queue: &wgpu::Queue, scene: Scene) -> Result<Self> {
-        super::memory::check_fits(&scene, &device.limits())?;
+        super::memory::check_fits(&scene, None, &device.limits())?;
         let n = scene.num_particles() as u32;
         let x4: Vec<Vec4> = scene.positions.iter().zip(&scene.inv_mass).map(|(p, &w)| p.extend(w)).collect();
         let bytes = bytemuck::cast_slice(&x4);
@@ -330,6 +330,14 @@ impl GpuSolver {
             colors,
             stages: Vec::new(),
         })
+    }
+
+    /// `Ok` when frames under `s` fit this device: the buffers a frame first needs (Jacobi's
+    /// corrections, the local mode's snapshots) within its limits ([`super::check_fits`]).
+    /// Call it before stepping under new settings; a frame whose buffers do not fit fails inside
+    /// wgpu.
+    pub fn check_settings(&self, s: &Settings) -> Result<()> {
+        super::memory::check_fits(&self.scene, Some(s), &self.device.limits())
     }
 
     /// The scene being simulated.

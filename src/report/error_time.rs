@@ -505,6 +505,7 @@ fn run_variant(
     every_frame: bool,
 ) -> Result<(f64, Vec<FramePositions>)> {
     let mut sim = Simulation::new(backend, start.scene.clone(), gpu.map(|(c, k)| (c, k)))?;
+    sim.check_settings(s)?;
     sim.set_velocities(&start.velocities)?;
     let mut times = Vec::with_capacity(frames as usize);
     let mut out = Vec::new();

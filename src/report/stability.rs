@@ -296,6 +296,7 @@ pub fn run_case(case: &Case, backend: Backend, gpu: Option<&Gpu>) -> Result<Outc
     });
     case.settings.validate()?;
     let mut sim = Simulation::new(backend, scene, gpu.map(|(c, k)| (c, k)))?;
+    sim.check_settings(&case.settings)?;
     sim.set_velocities(&v0)?;
     let t0 = Instant::now();
     let frames = case.frames();

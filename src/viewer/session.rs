@@ -327,7 +327,7 @@ impl Session {
         viewport: [f32; 4],
     ) -> Result<()> {
         let step = !self.state.paused || std::mem::take(&mut self.state.requests.step);
-        let mut settings = match self.state.frame_settings() {
+        let mut settings = match self.state.frame_settings().and_then(|s| self.sim.check_settings(&s).map(|()| s)) {
             Ok(s) => s,
             Err(e) => {
                 self.state.error = Some(e.to_string());
