@@ -103,6 +103,11 @@ fn absurd_parameters_are_refused_with_a_reason() {
         assert!(!out.status.success(), "{flag} {value} accepted");
         assert!(err.contains(flag) && !err.contains("panicked"), "{flag}: {err}");
     }
+    // A window wider than any surface (winit's X11 sizes stop at 65535) is refused before a
+    // display is opened.
+    let out = eapbd(&["view", "--width", "100000", "--exit-after-frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("--width/--height") && !err.contains("panicked"), "{err}");
     // A box scene of billions of tetrahedra is refused before anything is allocated.
     let out = eapbd(&["simulate", "--scene", "cube", "--resolution", "2048", "--frames", "1"]);
     let err = String::from_utf8_lossy(&out.stderr);

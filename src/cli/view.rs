@@ -19,10 +19,10 @@ pub struct ViewArgs {
     /// lavapipe), where the CPU solver is the faster of the two.
     #[arg(long, value_parser = named::<Backend>)]
     pub backend: Option<Backend>,
-    /// Window width (px).
+    /// Window width (px, at most 16384).
     #[arg(long, default_value_t = 1280)]
     pub width: u32,
-    /// Window height (px).
+    /// Window height (px, at most 16384).
     #[arg(long, default_value_t = 800)]
     pub height: u32,
     /// Surface colours at the start: shaded, groups (color groups), strain or energy.

@@ -59,6 +59,10 @@ pub struct ViewerOptions {
     pub post_panels: bool,
 }
 
+/// The largest window side asked for (px): the largest texture side of desktop GPUs (the surface
+/// is also held to the device's own limit).
+pub const MAX_WINDOW: u32 = 16384;
+
 /// Opens the window and runs until it is closed (or `exit_after_frames` have been drawn).
 pub fn run(options: ViewerOptions) -> Result<()> {
     if options.exit_after_frames == Some(0) {
@@ -67,11 +71,12 @@ pub fn run(options: ViewerOptions) -> Result<()> {
     if let Some(n) = options.msaa.filter(|n| ![1, 2, 4].contains(n)) {
         return Err(Error::param("--msaa", n, "must be 1, 2 or 4"));
     }
-    if options.width == 0 || options.height == 0 {
+    let sides = 1..=MAX_WINDOW;
+    if !(sides.contains(&options.width) && sides.contains(&options.height)) {
         return Err(Error::param(
             "--width/--height",
             format!("{}x{}", options.width, options.height),
-            "must be positive",
+            "must be between 1 and 16384 pixels",
         ));
     }
     let event_loop =

@@ -26,8 +26,8 @@ impl Running {
         let config = wgpu::SurfaceConfiguration {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | copy,
             format: surface_format,
-            width: size.width.max(1),
-            height: size.height.max(1),
+            width: size.width.clamp(1, max_side(&ctx.device)),
+            height: size.height.clamp(1, max_side(&ctx.device)),
             present_mode: wgpu::PresentMode::AutoVsync,
             desired_maximum_frame_latency: 2,
             alpha_mode: caps.alpha_modes.first().copied().unwrap_or(wgpu::CompositeAlphaMode::Auto),
@@ -86,13 +86,13 @@ impl Running {
         if size.width == 0 || size.height == 0 {
             return;
         }
-        self.config.width = size.width;
-        self.config.height = size.height;
+        let max = max_side(&self.ctx.device);
+        (self.config.width, self.config.height) = (size.width.min(max), size.height.min(max));
         self.surface.configure(&self.ctx.device, &self.config);
-        let samples = self.targets.samples;
-        self.targets = FrameTargets::new(&self.ctx.device, self.format, size.width, size.height, samples);
+        let (w, h, samples) = (self.config.width, self.config.height, self.targets.samples);
+        self.targets = FrameTargets::new(&self.ctx.device, self.format, w, h, samples);
         if self.ui_cache.is_some() {
-            self.ui_cache = Some(UiCache::new(&self.ctx.device, self.format, size.width, size.height));
+            self.ui_cache = Some(UiCache::new(&self.ctx.device, self.format, w, h));
         }
         self.ui_changed = true;
     }
@@ -153,4 +153,10 @@ impl Running {
             _ => None,
         };
     }
+}
+
+/// The largest surface side the device takes (px): a window larger than that is drawn at this
+/// size.
+fn max_side(device: &wgpu::Device) -> u32 {
+    device.limits().max_texture_dimension_2d
 }
