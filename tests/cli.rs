@@ -103,6 +103,11 @@ fn absurd_parameters_are_refused_with_a_reason() {
         assert!(!out.status.success(), "{flag} {value} accepted");
         assert!(err.contains(flag) && !err.contains("panicked"), "{flag}: {err}");
     }
+    for command in ["simulate", "render"] {
+        let out = eapbd(&[command, "--frames", "0"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains("--frames must be at least 1"), "{command}: {err}");
+    }
     // A window wider than any surface (winit's X11 sizes stop at 65535) is refused before a
     // display is opened.
     let out = eapbd(&["view", "--width", "100000", "--exit-after-frames", "1"]);

@@ -50,6 +50,7 @@ pub struct RenderArgs {
 
 /// Runs the command.
 pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(a.frames > 0, "--frames must be at least 1");
     anyhow::ensure!(a.every > 0, "--every must be at least 1");
     let settings = a.scene.settings()?;
     let scene = a.scene.build_scene()?;

@@ -48,6 +48,8 @@ pub struct SimulateArgs {
 
 /// Runs the command.
 pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
+    anyhow::ensure!(a.frames > 0, "--frames must be at least 1");
+    anyhow::ensure!(a.export_every > 0, "--export-every must be at least 1");
     let settings = a.scene.settings()?;
     let scene = a.scene.build_scene()?;
     super::warn_unresolved(&scene, &settings);
@@ -101,7 +103,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
         let ms = t.elapsed().as_secs_f64() * 1e3;
         times.push(ms);
         if let Some(dir) = &a.export_obj_dir
-            && frame % a.export_every.max(1) == 0
+            && frame % a.export_every == 0
         {
             let (x, triangles) = sim.scene().surface(&sim.positions()?);
             eapbd::mesh::write_obj(&dir.join(format!("frame_{frame:05}.obj")), &x, triangles)?;
@@ -125,7 +127,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     say!(
         "summary: {} frames, {:.3} ms/frame mean solve time (median {:.3}), final stretch mean {:.3e} max {:.3e}, total energy {:.4e} J, {}",
         a.frames,
-        times.iter().sum::<f64>() / a.frames.max(1) as f64,
+        times.iter().sum::<f64>() / a.frames as f64,
         median(&mut times),
         last.stretch_mean,
         last.stretch_max,
