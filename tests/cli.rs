@@ -123,6 +123,17 @@ fn absurd_parameters_are_refused_with_a_reason() {
 }
 
 #[test]
+fn a_neo_hookean_body_with_negative_poisson_ratio_is_warned_about() {
+    let out = eapbd(&["simulate", "--scene", "cube", "--poisson", "-0.2", "--frames", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success() && err.contains("warning: neo-hookean") && err.contains("no lower bound"), "{err}");
+    for args in [&["--poisson", "0.2"][..], &["--poisson", "-0.2", "--material", "stvk"]] {
+        let out = eapbd(&[&["simulate", "--scene", "cube", "--frames", "1"][..], args].concat());
+        assert!(out.status.success() && !String::from_utf8_lossy(&out.stderr).contains("warning"), "{args:?}");
+    }
+}
+
+#[test]
 fn substeps_too_fine_for_f32_positions_are_warned_about() {
     let out = eapbd(&["simulate", "--substeps", "250", "--iterations", "1", "--frames", "3"]);
     let err = String::from_utf8_lossy(&out.stderr);

@@ -309,3 +309,17 @@ fn closed_forms_match_the_svd_reference() {
         assert!(fast > 1000 && (m.model == Model::Linear || slow > 300), "{:?}: {fast} closed, {slow} SVD", m.model);
     }
 }
+
+#[test]
+fn only_neo_hookean_with_a_negative_lame_lambda_carries_a_caveat() {
+    for model in [Model::Linear, Model::StVK, Model::NeoHookean, Model::MooneyRivlin, Model::ArrudaBoyce] {
+        for nu in [-0.9, -0.2, 0.0, 0.3, 0.49] {
+            let e = Elastic::new(model, 1e6, nu).unwrap();
+            let expected = model == Model::NeoHookean && nu < 0.0;
+            assert_eq!(e.caveat().is_some(), expected, "{model:?} at ν = {nu}");
+            if let Some(c) = e.caveat() {
+                assert!(c.contains(&format!("{nu:.3}")) && c.contains("no lower bound"), "{c}");
+            }
+        }
+    }
+}

@@ -311,10 +311,14 @@ impl SceneArgs {
 }
 
 /// Warns on standard error where `f32` positions cannot resolve a substep's motion under
-/// gravity (`eapbd::solver::precision`).
-pub fn warn_unresolved(scene: &eapbd::scene::Scene, s: &Settings) {
+/// gravity (`eapbd::solver::precision`), and where the body's material has no lower bound on its
+/// energy (`eapbd::material::Elastic::caveat`).
+pub fn warn_about(scene: &eapbd::scene::Scene, s: &Settings) {
     if let Some(u) = eapbd::solver::precision::unresolved_substep(scene, s) {
         eprintln!("warning: {u}");
+    }
+    if let Some(c) = scene.tets.as_ref().and_then(|t| t.params.elastic.caveat()) {
+        eprintln!("warning: {c}");
     }
 }
 

@@ -54,7 +54,7 @@ pub fn run(a: &RenderArgs) -> anyhow::Result<()> {
     anyhow::ensure!(a.every > 0, "--every must be at least 1");
     let settings = a.scene.settings()?;
     let scene = a.scene.build_scene()?;
-    super::warn_unresolved(&scene, &settings);
+    super::warn_about(&scene, &settings);
     let ctx = GpuContext::new()?;
     let kernels = Arc::new(Kernels::new(&ctx.device));
     let mut gif = match &a.gif {

@@ -52,7 +52,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
     anyhow::ensure!(a.export_every > 0, "--export-every must be at least 1");
     let settings = a.scene.settings()?;
     let scene = a.scene.build_scene()?;
-    super::warn_unresolved(&scene, &settings);
+    super::warn_about(&scene, &settings);
     let gpu = match a.backend {
         Backend::Gpu => {
             let ctx = GpuContext::new()?;

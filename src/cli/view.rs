@@ -53,7 +53,7 @@ pub fn run(a: &ViewArgs) -> anyhow::Result<()> {
     let options = a.scene.scene_options()?;
     // Refuse bad options here, with the flag's name, rather than in the window.
     let scene = eapbd::scene::build(&a.scene.scene, &options)?;
-    super::warn_unresolved(&scene, &settings);
+    super::warn_about(&scene, &settings);
     let choice = SceneChoice::new(&a.scene.scene, &options)?;
     let mut state = ViewerState::new(choice, settings, a.backend.unwrap_or(Backend::Gpu));
     state.color_mode = a.color;

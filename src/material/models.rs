@@ -139,6 +139,23 @@ impl Elastic {
         Ok(Elastic { model, mu, lambda, kappa, mu10, mu01, nu1, mu_ab, lambda_m: lm, alphas, inversion_stiffness })
     }
 
+    /// What a user should know of this material before running it, if anything: Neo-Hookean with
+    /// `ν < 0` has `λ < 0`, and its energy `μ/2 (I₁ − 3) − μ ln J + λ/2 (ln J)²` then has no lower
+    /// bound as `J → 0` (the `(ln J)²` term outgrows `−μ ln J`), so a strongly compressed body
+    /// can collapse into itself (the cube at `ν = −0.9` does, its total energy falling to
+    /// −2·10⁵ J). The other models hold at every `ν` in `(−1, 0.5)`.
+    pub fn caveat(&self) -> Option<String> {
+        (self.model == Model::NeoHookean && self.lambda < 0.0).then(|| {
+            let nu = self.lambda / (2.0 * (self.lambda + self.mu));
+            format!(
+                "neo-hookean at --poisson {nu:.3} has a negative Lamé λ ({:.3e} Pa): its energy has no lower \
+                 bound under strong compression, and a compressed body may collapse into itself; stvk, linear, \
+                 mooney-rivlin and arruda-boyce hold at any Poisson's ratio",
+                self.lambda
+            )
+        })
+    }
+
     /// Arruda-Boyce's `αᵢ = μ_AB Cᵢ / λ_m^{2i−2}` for `i = 1..5` (Pa).
     pub fn arruda_boyce_alphas(&self) -> [f64; 5] {
         self.alphas
