@@ -143,7 +143,8 @@ impl Elastic {
     /// `ν < 0` has `λ < 0`, and its energy `μ/2 (I₁ − 3) − μ ln J + λ/2 (ln J)²` then has no lower
     /// bound as `J → 0` (the `(ln J)²` term outgrows `−μ ln J`), so a strongly compressed body
     /// can collapse into itself (the cube at `ν = −0.9` does, its total energy falling to
-    /// −2·10⁵ J). The other models hold at every `ν` in `(−1, 0.5)`.
+    /// −2·10⁵ J). The other models keep a lower bound at every `ν` in `(−1, 0.5)`: their
+    /// volumetric parts rest on the bulk modulus `κ = λ + 2μ/3`, positive there.
     pub fn caveat(&self) -> Option<String> {
         (self.model == Model::NeoHookean && self.lambda < 0.0).then(|| {
             let nu = self.lambda / (2.0 * (self.lambda + self.mu));
