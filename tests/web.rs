@@ -435,13 +435,20 @@ fn dragging_the_cloth_in_the_page_pulls_it_with_either_solver() {
                 assert!(start.elapsed() < PAGE_TIMEOUT, "the page drew {drawn} frames in {PAGE_TIMEOUT:?}");
                 std::thread::sleep(Duration::from_millis(50));
             }
+            // Three drags: in one run of five the GPU backend's press grabbed nothing (it picks
+            // against its latest read-back snapshot, at about 6 frames a second in this software
+            // browser). A later press may miss a cloth the first drag moved away, so the page's
+            // count of grabs must reach one, not three.
             let from = (SIZE.0 as f64 / 2.0, SIZE.1 as f64 / 2.0);
-            page.mouse("mousePressed", from);
-            for k in 1..=10 {
-                std::thread::sleep(Duration::from_millis(50));
-                page.mouse("mouseMoved", (from.0 + 10.0 * k as f64, from.1));
+            for _ in 0..3 {
+                page.mouse("mousePressed", from);
+                for k in 1..=10 {
+                    std::thread::sleep(Duration::from_millis(50));
+                    page.mouse("mouseMoved", (from.0 + 10.0 * k as f64, from.1));
+                }
+                page.mouse("mouseReleased", (from.0 + 100.0, from.1));
+                std::thread::sleep(Duration::from_millis(200));
             }
-            page.mouse("mouseReleased", (from.0 + 100.0, from.1));
         });
         let grabs: u32 = said.split("grabs=").nth(1).and_then(|v| v.parse().ok()).unwrap_or(0);
         let diff = mean_abs_diff(&dragged, &alone);
