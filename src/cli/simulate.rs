@@ -139,7 +139,7 @@ pub fn run(a: &SimulateArgs) -> anyhow::Result<()> {
             "self-collision: {} candidate pairs, references renewed at {} checks ({:.2} a frame), {} candidates dropped at the last search",
             sc.pairs,
             sc.builds,
-            sc.builds as f64 / a.frames.max(1) as f64,
+            sc.builds as f64 / a.frames as f64,
             sc.dropped
         );
     }
