@@ -1,7 +1,9 @@
 //! The lean in-place kernels of the CPU solver (scalar and SIMD, `SIMD_WIDTH` lanes) against the general XPBD
 //! update, the fast `f32` `atan2` against the library, and the team of threads against one thread.
 
-use eapbd::constraints::{Bend, BendParams, Element, LaneData, SIMD_WIDTH, Spring, SpringMaterial, SpringParams};
+use eapbd::constraints::{
+    ALL_LANES, Bend, BendParams, Element, LaneData, SIMD_WIDTH, Spring, SpringMaterial, SpringParams,
+};
 use eapbd::math::Real;
 use eapbd::scene::{self, SceneOptions};
 use eapbd::solver::{CpuSolver, Settings, delta_lambda};
@@ -49,7 +51,7 @@ fn case(rng: &mut SmallRng, n: usize, place: impl Fn(&mut SmallRng, usize) -> Ve
 
 /// Runs the general update, the scalar kernel and the SIMD kernel (where the family has one) on
 /// the same `SIMD_WIDTH` elements: the scalar kernel agrees with the general update to `rel` of the
-/// correction, and the SIMD lanes equal the scalar kernel bit for bit.
+/// correction, and the SIMD lanes equal the scalar kernel bit for bit, in a partial batch too.
 fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E::Params, c: &Case, rel: f32) {
     let (mut xg, mut xs, mut xv) = (c.x.clone(), c.x.clone(), c.x.clone());
     let (mut lg, mut ls, mut lv) = (c.lambda, c.lambda, c.lambda);
@@ -65,8 +67,14 @@ fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E:
         packed.view::<N>(0..SIMD_WIDTH).expect("complete lanes"),
         padded.view::<N>(0..SIMD_WIDTH).expect("complete lanes"),
     );
-    let declined =
-        if E::PLAIN_WIDE { E::project_plain_wide(packed.window(0), p, &mut xv[..], &mut lv, INV_H2, 1.0) } else { 0 };
+    let declined = if E::PLAIN_WIDE {
+        E::project_plain_wide(packed.window(0), p, &mut xv[..], &mut lv, INV_H2, 1.0, ALL_LANES)
+    } else {
+        0
+    };
+    if E::PLAIN_WIDE {
+        check_tails(what, es, p, c, &lanes(size_of::<Vec3>()), (&xv, &lv, declined));
+    }
     for (l, e) in es.iter().enumerate() {
         general(e, p, &mut xg, &c.w, &mut lg[l]);
         let done = e.project_plain(p, &mut xs[..], &c.w, &mut ls[l], INV_H2, 1.0);
@@ -85,7 +93,7 @@ fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E:
         // The padded storage the solver runs on (one 16-byte load and store per particle).
         let mut xa: Vec<Vec3A> = c.x.iter().map(|&p| p.into()).collect();
         let mut la = c.lambda;
-        let declined_a = E::project_plain_wide(padded.window(0), p, &mut xa[..], &mut la, INV_H2, 1.0);
+        let declined_a = E::project_plain_wide(padded.window(0), p, &mut xa[..], &mut la, INV_H2, 1.0, ALL_LANES);
         assert_eq!(declined_a, 0, "{what}: padded lanes declined");
         let xa: Vec<Vec3> = xa.into_iter().map(Vec3::from).collect();
         assert_eq!(xa, xv, "{what}: padded SIMD positions differ");
@@ -103,6 +111,36 @@ fn check<E: Element<N>, const N: usize>(what: &str, es: &[E; SIMD_WIDTH], p: &E:
             ls[l],
             lg[l]
         );
+    }
+}
+
+/// A group's last, partial batch ([`eapbd::constraints::LaneView::tail`]) of the first `r`
+/// elements, for every `r` below `SIMD_WIDTH`: its lanes update as they do in the whole batch
+/// (`whole`: the positions, multipliers and declined lanes after it), and the stand-ins in the
+/// other lanes write nothing and are not reported.
+fn check_tails<E: Element<N>, const N: usize>(
+    what: &str,
+    es: &[E; SIMD_WIDTH],
+    p: &E::Params,
+    c: &Case,
+    lanes: &LaneData,
+    (x_whole, l_whole, declined_whole): (&[Vec3], &[f32; SIMD_WIDTH], u32),
+) {
+    for r in 1..SIMD_WIDTH {
+        let tail = lanes.view::<N>(0..r).expect("complete lanes").tail(0);
+        assert_eq!(tail.active, (1 << r) - 1);
+        let (mut x, mut l) = (c.x.clone(), c.lambda);
+        let declined = E::project_plain_wide(tail.window(), p, &mut x[..], &mut l, INV_H2, 1.0, tail.active);
+        assert_eq!(declined, declined_whole & tail.active, "{what}, {r} lanes: declined");
+        for (j, e) in es.iter().enumerate() {
+            let moved = j < r && declined & (1 << j) == 0;
+            for q in e.particles().map(|q| q as usize) {
+                let expected = if moved { x_whole[q] } else { c.x[q] };
+                assert_eq!(x[q], expected, "{what}, {r} lanes: element {j}'s particle {q}");
+            }
+            let expected = if moved { l_whole[j] } else { c.lambda[j] };
+            assert_eq!(l[j], expected, "{what}, {r} lanes: element {j}'s multiplier");
+        }
     }
 }
 
@@ -354,7 +392,7 @@ fn masses_changed_between_frames_reach_the_simd_kernels() {
 /// value below σ_min), leaving them unchanged for the general update; the others agree with the
 /// general update to 5e-3 of the correction (f32 rounding of `Ψ` near rest, where `C = √(2E/s)`
 /// turns it into the step, and `wide`'s `ln`/`exp` against the library's), on packed and padded
-/// positions alike, bit for bit between the two.
+/// positions alike, bit for bit between the two, and in a partial batch as in a whole one.
 #[test]
 fn tet_kernels_match_the_general_update() {
     use eapbd::constraints::{Tet, TetParams};
@@ -394,11 +432,15 @@ fn tet_kernels_match_the_general_update() {
             let (packed, padded) = (lanes(size_of::<Vec3>()), lanes(size_of::<Vec3A>()));
             let (mut xv, mut lv) = (c.x.clone(), c.lambda);
             let view = packed.view::<4>(0..SIMD_WIDTH).expect("complete lanes");
-            let declined = Tet::project_plain_wide(view.window(0), &p, &mut xv[..], &mut lv, INV_H2, 1.0);
+            let declined = Tet::project_plain_wide(view.window(0), &p, &mut xv[..], &mut lv, INV_H2, 1.0, ALL_LANES);
+            check_tails(&format!("{model:?}"), &es, &p, &c, &packed, (&xv, &lv, declined));
             let mut xa: Vec<Vec3A> = c.x.iter().map(|&q| q.into()).collect();
             let mut la = c.lambda;
             let view = padded.view::<4>(0..SIMD_WIDTH).expect("complete lanes");
-            assert_eq!(Tet::project_plain_wide(view.window(0), &p, &mut xa[..], &mut la, INV_H2, 1.0), declined);
+            assert_eq!(
+                Tet::project_plain_wide(view.window(0), &p, &mut xa[..], &mut la, INV_H2, 1.0, ALL_LANES),
+                declined
+            );
             assert_eq!(xa.into_iter().map(Vec3::from).collect::<Vec<_>>(), xv, "{model:?}: padded positions differ");
             assert_eq!(la, lv, "{model:?}: padded multipliers differ");
             let (mut xg, mut lg) = (c.x.clone(), c.lambda);

@@ -200,8 +200,9 @@ impl Element<4> for Bend {
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
+        active: u32,
     ) -> u32 {
-        use simd::{Lanes, WIDTH, madd};
+        use simd::{Lanes, madd};
         let at = lanes.at;
         let xs = [simd::gather(x, at[0]), simd::gather(x, at[1]), simd::gather(x, at[2]), simd::gather(x, at[3])];
         let ws = lanes.w.map(simd::load);
@@ -238,12 +239,12 @@ impl Element<4> for Bend {
         let lam = simd::lanes(lambda);
         let sor = Lanes::splat(sor.to_f64() as f32);
         let dl = ok.select(madd(alpha_tilde, -lam, -cval) / denom * sor, Lanes::ZERO);
-        let mask = ok.to_bitmask();
+        let mask = ok.to_bitmask() & active;
         simd::store_masked(lambda, lam + dl, mask);
         simd::scatter(x, at[0], g0.madd(ws[0] * dl, xs[0]), mask);
         simd::scatter(x, at[1], g1.madd(ws[1] * dl, xs[1]), mask);
         simd::scatter(x, at[2], g2.madd(ws[2] * dl, xs[2]), mask);
         simd::scatter(x, at[3], g3.madd(ws[3] * dl, xs[3]), mask);
-        !mask & ((1 << WIDTH) - 1)
+        !mask & active
     }
 }

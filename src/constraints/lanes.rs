@@ -144,6 +144,21 @@ impl<'a, const N: usize> LaneView<'a, N> {
         }
     }
 
+    /// The elements from element `j` on, fewer than [`WIDTH`] (a group's last, partial batch),
+    /// each slot padded to [`WIDTH`] lanes with element `j`'s values: stand-ins that a kernel
+    /// computes but neither writes nor reports ([`LaneTail::active`]).
+    pub fn tail(&self, j: usize) -> LaneTail<N> {
+        let n = self.len.saturating_sub(j);
+        assert!(0 < n && n < WIDTH, "a tail of {n} lanes from {j} of {}", self.len);
+        let pad = |l: usize| j + if l < n { l } else { 0 };
+        LaneTail {
+            w: self.w.map(|s| std::array::from_fn(|l| s[pad(l)])),
+            at: self.at.map(|s| std::array::from_fn(|l| s[pad(l)])),
+            consts: self.consts.map(|s| s.map_or([0.0; WIDTH], |s| std::array::from_fn(|l| s[pad(l)]))),
+            active: (1 << n) - 1,
+        }
+    }
+
     /// Elements in the view.
     #[inline(always)]
     pub fn len(&self) -> usize {
@@ -167,6 +182,24 @@ pub struct LaneWindow<'a, const N: usize> {
     /// Constant `m` of each element ([`Element::lane_constants`]; zeros past the family's
     /// [`Element::LANE_CONSTANT_COUNT`]).
     pub consts: [&'a [f32; WIDTH]; LANE_CONSTANTS],
+}
+
+/// A partial batch's lanes, padded to [`WIDTH`] ([`LaneView::tail`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LaneTail<const N: usize> {
+    w: [[f32; WIDTH]; N],
+    at: [[u32; WIDTH]; N],
+    consts: [[f32; WIDTH]; LANE_CONSTANTS],
+    /// The lanes that hold an element (bit `l` for lane `l`; the first ones).
+    pub active: u32,
+}
+
+impl<const N: usize> LaneTail<N> {
+    /// The batch as a window for the kernels.
+    #[inline(always)]
+    pub fn window(&self) -> LaneWindow<'_, N> {
+        LaneWindow { w: self.w.each_ref(), at: self.at.each_ref(), consts: self.consts.each_ref() }
+    }
 }
 
 #[cfg(test)]

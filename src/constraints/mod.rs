@@ -14,9 +14,12 @@ pub mod tet;
 use crate::math::Vector;
 
 pub use bending::{Bend, BendParams};
-pub use lanes::{LANE_CONSTANTS, LaneData, LaneView, LaneWindow};
+pub use lanes::{LANE_CONSTANTS, LaneData, LaneTail, LaneView, LaneWindow};
 pub use membrane::{Membrane, MembraneParams, Orthotropic};
 pub use simd::WIDTH as SIMD_WIDTH;
+
+/// Every lane of a SIMD batch ([`Element::project_plain_wide`]'s `active` for a whole batch).
+pub const ALL_LANES: u32 = (1 << SIMD_WIDTH) - 1;
 pub use spring::{Spring, SpringMaterial, SpringParams};
 pub use tet::{Tet, TetParams};
 
@@ -122,9 +125,11 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
     /// [`Element::project_plain`] for [`SIMD_WIDTH`] consecutive elements of one color group at
     /// once, one per SIMD lane, given slot by slot (`lanes`, [`LaneView::window`]: each particle
     /// slot's inverse masses in 1/kg and byte offsets, and the elements' [`Element::lane_constants`])
-    /// (called for `f32` only: `lambda` holds exactly [`SIMD_WIDTH`]).
-    /// Returns a mask of the lanes it declined (bit `l` set: element `l` left unchanged for the
-    /// scalar path).
+    /// (called for `f32` only: `lambda` holds exactly [`SIMD_WIDTH`]). Only the lanes set in
+    /// `active` hold elements ([`ALL_LANES`] for a whole batch; a group's last, partial batch
+    /// fills the rest with stand-ins, [`LaneView::tail`]): the others are computed but neither
+    /// written nor reported. Returns a mask of the active lanes it declined (bit `l` set: element
+    /// `l` left unchanged for the scalar path).
     #[inline(always)]
     fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
         _lanes: LaneWindow<'_, N>,
@@ -133,8 +138,9 @@ pub trait Element<const N: usize>: Copy + Send + Sync + 'static {
         _lambda: &mut [V::S],
         _inv_h2: V::S,
         _sor: V::S,
+        active: u32,
     ) -> u32 {
-        (1 << SIMD_WIDTH) - 1
+        active
     }
 }
 

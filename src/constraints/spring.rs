@@ -180,11 +180,11 @@ impl Element<2> for Spring {
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
+        active: u32,
     ) -> u32 {
-        use simd::{Lanes, WIDTH, madd};
-        let all = (1 << WIDTH) - 1;
+        use simd::{Lanes, madd};
         if p.material != SpringMaterial::Hookean {
-            return all;
+            return active;
         }
         let [ia, ib] = lanes.at;
         let (xa, xb) = (simd::gather(x, ia), simd::gather(x, ib));
@@ -198,11 +198,11 @@ impl Element<2> for Spring {
         let lam = simd::lanes(lambda);
         let sor = Lanes::splat(sor.to_f64() as f32);
         let s = ok.select(madd(alpha_tilde, -lam, l0 - len) * sor / (denom * len), Lanes::ZERO);
-        let mask = ok.to_bitmask();
+        let mask = ok.to_bitmask() & active;
         simd::store_masked(lambda, madd(s, len, lam), mask);
         simd::scatter(x, ia, d.madd(-(wa * s), xa), mask);
         simd::scatter(x, ib, d.madd(wb * s, xb), mask);
-        !mask & all
+        !mask & active
     }
 }
 

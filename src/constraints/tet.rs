@@ -145,8 +145,8 @@ impl Element<4> for Tet {
     /// lane is declined, and its element left to the general update, where the element is not
     /// regular (`J ≤ 0` or `J² < σ_min² I₂(C)`; the linear model is regular everywhere), its
     /// constraint vanishes, or the denominator does. The team's shares and the one-thread sweep
-    /// batch a group alike (whole batches from the group's start), so which elements take this
-    /// kernel does not depend on the thread count.
+    /// batch a group alike (whole batches from the group's start, the last one partial), so
+    /// which elements take this kernel does not depend on the thread count.
     #[inline(always)]
     fn project_plain_wide<V: Vector, P: Positions<V> + ?Sized>(
         lanes: LaneWindow<'_, 4>,
@@ -155,14 +155,14 @@ impl Element<4> for Tet {
         lambda: &mut [V::S],
         inv_h2: V::S,
         sor: V::S,
+        active: u32,
     ) -> u32 {
-        use simd::{Lanes, V3, WIDTH, madd};
+        use simd::{Lanes, V3, madd};
         /// `a · s` for a 3-vector of lanes.
         #[inline(always)]
         fn mul(a: V3, s: Lanes) -> V3 {
             a * s
         }
-        let all = (1u32 << WIDTH) - 1;
         let e = &p.elastic;
         let k = |v: f64| Lanes::splat(v as f32);
         let at = lanes.at;
@@ -290,11 +290,11 @@ impl Element<4> for Tet {
         let lam = simd::lanes(lambda);
         let sor = Lanes::splat(sor.to_f64() as f32);
         let dl = ok.select(madd(alpha_tilde, -lam, -cval) / denom * sor, Lanes::ZERO);
-        let mask = ok.to_bitmask();
+        let mask = ok.to_bitmask() & active;
         simd::store_masked(lambda, lam + dl, mask);
         for n in 0..4 {
             simd::scatter(x, at[n], g[n].madd(ws[n] * kc * dl, xs[n]), mask);
         }
-        !mask & all
+        !mask & active
     }
 }

@@ -5,8 +5,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use crate::constraints::SIMD_WIDTH;
 use crate::constraints::simd::is_f32;
+use crate::constraints::{ALL_LANES, SIMD_WIDTH};
 use crate::constraints::{Element, LaneData, LaneView, Positions};
 use crate::math::prelude::*;
 use crate::metrics::{self, Lambdas};
@@ -502,7 +502,8 @@ fn family_has_wide<E: Element<N>, const N: usize>(_: &Family<E, N>) -> bool {
 
 /// [`plain_sweep`] over consecutive elements of one color group: `w` the particles' inverse
 /// masses, `lanes` the elements slot by slot ([`LaneData::view`]; the SIMD kernels run where
-/// there is one).
+/// there is one, in whole batches from the chunk's start and, for the last fewer than
+/// [`SIMD_WIDTH`] elements, in one batch padded with stand-ins, [`LaneView::tail`]).
 #[inline(always)]
 fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, Q: Positions<V> + ?Sized, const N: usize>(
     es: &[E],
@@ -520,15 +521,25 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, Q: Positions<
     };
     let mut j = 0;
     if let Some(lanes) = lanes.filter(|l| E::PLAIN_WIDE && is_f32::<V::S>() && l.len() == es.len()) {
-        while j + SIMD_WIDTH <= es.len() {
-            let l = &mut ls[j..j + SIMD_WIDTH];
-            let mut declined = E::project_plain_wide(lanes.window(j), params, x, l, k.inv_h2, k.sor);
+        while j < es.len() {
+            let n = (es.len() - j).min(SIMD_WIDTH);
+            let mut declined = if n == SIMD_WIDTH {
+                let l = &mut ls[j..j + SIMD_WIDTH];
+                E::project_plain_wide(lanes.window(j), params, x, l, k.inv_h2, k.sor, ALL_LANES)
+            } else {
+                let tail = lanes.tail(j);
+                let mut l = [V::S::zero(); SIMD_WIDTH];
+                l[..n].copy_from_slice(&ls[j..]);
+                let declined = E::project_plain_wide(tail.window(), params, x, &mut l, k.inv_h2, k.sor, tail.active);
+                ls[j..].copy_from_slice(&l[..n]);
+                declined
+            };
             while declined != 0 {
                 let l = declined.trailing_zeros() as usize;
                 one(&es[j + l], &mut ls[j + l], x);
                 declined &= declined - 1;
             }
-            j += SIMD_WIDTH;
+            j += n;
         }
     }
     for (e, l) in es[j..].iter().zip(&mut ls[j..]) {
