@@ -132,21 +132,26 @@ impl EmbeddedTets {
             )));
         }
         // Keep the tetrahedra of kept cells (box_grid emits six per cell, cells in x, y, z
-        // order) and renumber the vertices they use.
+        // order) and renumber the vertices they use in the grid's order (x slowest, which the
+        // CPU team's split follows: `TetMesh::box_grid`).
         let mut remap = vec![u32::MAX; grid.positions.len()];
-        let mut mesh = TetMesh::default();
-        let mut first_tet = vec![u32::MAX; n_cells];
-        for (c, _) in kept.iter().enumerate().filter(|(_, k)| **k) {
-            first_tet[c] = mesh.tets.len() as u32;
+        let kept_cells = || kept.iter().enumerate().filter(|(_, k)| **k).map(|(c, _)| c);
+        for c in kept_cells() {
             for t in &grid.tets[6 * c..6 * c + 6] {
-                mesh.tets.push(t.map(|i| {
-                    if remap[i as usize] == u32::MAX {
-                        remap[i as usize] = mesh.positions.len() as u32;
-                        mesh.positions.push(grid.positions[i as usize]);
-                    }
-                    remap[i as usize]
-                }));
+                for &i in t {
+                    remap[i as usize] = 0;
+                }
             }
+        }
+        let mut mesh = TetMesh::default();
+        for (i, r) in remap.iter_mut().enumerate().filter(|(_, r)| **r == 0) {
+            *r = mesh.positions.len() as u32;
+            mesh.positions.push(grid.positions[i]);
+        }
+        let mut first_tet = vec![u32::MAX; n_cells];
+        for c in kept_cells() {
+            first_tet[c] = mesh.tets.len() as u32;
+            mesh.tets.extend(grid.tets[6 * c..6 * c + 6].iter().map(|t| t.map(|i| remap[i as usize])));
         }
         let mut bindings = Vec::with_capacity(surface.positions.len());
         let mut max_outside = 0.0f64;
