@@ -26,8 +26,7 @@ impl TetMesh {
     /// (`crate::scene::Family`), so with the vertices numbered along x the split falls about the
     /// same place in every group, and few particles are touched by two threads (each passes its
     /// cache line between the cores: the bunny's lattice, 181 of 1,292 particles against 500 with
-    /// the vertices numbered like the cells, and its two threads 4–5 % faster, 28 % where the
-    /// host makes a core-to-core handoff slow; BENCHMARKS.md).
+    /// the vertices numbered like the cells; BENCHMARKS.md, "Two threads on the bunny").
     pub fn box_grid(cells: [u32; 3], min: Vec3, max: Vec3) -> Self {
         let [nx, ny, nz] = cells.map(|c| c.max(1));
         let idx = |i: u32, j: u32, k: u32| k + (nz + 1) * (j + (ny + 1) * i);
