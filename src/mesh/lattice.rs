@@ -134,18 +134,17 @@ impl EmbeddedTets {
         // Keep the tetrahedra of kept cells (box_grid emits six per cell, cells in x, y, z
         // order) and renumber the vertices they use in the grid's order (x slowest, which the
         // CPU team's split follows: `TetMesh::box_grid`).
-        let mut remap = vec![u32::MAX; grid.positions.len()];
         let kept_cells = || kept.iter().enumerate().filter(|(_, k)| **k).map(|(c, _)| c);
+        let mut used = vec![false; grid.positions.len()];
         for c in kept_cells() {
-            for t in &grid.tets[6 * c..6 * c + 6] {
-                for &i in t {
-                    remap[i as usize] = 0;
-                }
+            for &i in grid.tets[6 * c..6 * c + 6].as_flattened() {
+                used[i as usize] = true;
             }
         }
+        let mut remap = vec![u32::MAX; grid.positions.len()];
         let mut mesh = TetMesh::default();
-        for (i, r) in remap.iter_mut().enumerate().filter(|(_, r)| **r == 0) {
-            *r = mesh.positions.len() as u32;
+        for (i, _) in used.iter().enumerate().filter(|(_, u)| **u) {
+            remap[i] = mesh.positions.len() as u32;
             mesh.positions.push(grid.positions[i]);
         }
         let mut first_tet = vec![u32::MAX; n_cells];

@@ -1,17 +1,18 @@
 //! Whether a frame runs on the team or on one thread. A team frame is checked against one frame
-//! on one thread after the first [`COLD_FRAMES`] of a run, again after every [`TRUSTED_FRAMES`] frames the team ran
-//! unchecked, and at once after a team frame whose threads slept at many waits (the cores may be
-//! busy with other work) or waited longer than they worked; a faster frame on one thread is
-//! checked against one more team frame (the team frame may only have met the host taking a core
-//! away for a while). Where the team loses (cores busy with other work, small groups on cores
-//! whose every meeting costs more than the work it splits, or cores that pass a cache line to
-//! each other slowly) the frames run on one thread.
+//! on one thread after the first [`COLD_FRAMES`] of a run, again after every [`TRUSTED_FRAMES`]
+//! frames the team ran unchecked, and at once after a team frame whose threads slept at many
+//! waits (the cores may be busy with other work) or waited longer than they worked; a faster
+//! frame on one thread is checked against one more team frame (the team frame may only have met
+//! the host taking a core away for a while). Where the team loses (cores busy with other work,
+//! small groups on cores whose every meeting costs more than the work it splits, or cores that
+//! pass a cache line to each other slowly) the frames run on one thread.
 //!
 //! The frame that follows a switch, from the team to one thread or back, is not timed for the
-//! comparison: it pays for moving the particles into the other cores' caches, as the first frames
-//! of a run pay for cold caches and cores still speeding up. Compared, such frames chose the team for 120 frames on a host
-//! where it took 2.4 ms a frame against 1.45 ms on one thread: the first team frame took 4.9 ms,
-//! the first frame on one thread 4.7 ms and the second team frame 4.4 ms.
+//! comparison: it pays for moving the particles into the other core's cache, as the first frames
+//! of a run pay for cold caches and cores still speeding up. Compared, such frames kept the team
+//! for 120 frames on a host where it took 2.4 ms a frame against 1.45 ms on one thread: the
+//! first team frame took 4.9 ms, the first frame on one thread 4.7 ms and the second team frame
+//! 4.4 ms.
 
 use std::time::Duration;
 
