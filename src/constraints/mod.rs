@@ -14,7 +14,7 @@ pub mod tet;
 use crate::math::Vector;
 
 pub use bending::{Bend, BendParams};
-pub use lanes::{LANE_CONSTANTS, LaneData, LaneTail, LaneView, LaneWindow};
+pub use lanes::{LANE_CONSTANTS, LaneData, LaneView, LaneWindow};
 pub use membrane::{Membrane, MembraneParams, Orthotropic};
 pub use simd::WIDTH as SIMD_WIDTH;
 

@@ -279,7 +279,7 @@ impl<V: Vector> CpuSolver<V> {
             if family_has_wide(f) {
                 let lanes = &mut self.fam[i].lanes;
                 if lanes.is_empty() {
-                    *lanes = LaneData::new(&f.elements, size_of::<V>());
+                    *lanes = LaneData::new(&f.elements, &f.colors, size_of::<V>());
                 }
                 lanes.set_masses(&f.elements, w);
             }
@@ -502,8 +502,9 @@ fn family_has_wide<E: Element<N>, const N: usize>(_: &Family<E, N>) -> bool {
 
 /// [`plain_sweep`] over consecutive elements of one color group: `w` the particles' inverse
 /// masses, `lanes` the elements slot by slot ([`LaneData::view`]; the SIMD kernels run where
-/// there is one, in whole batches from the chunk's start and, for the last fewer than
-/// [`SIMD_WIDTH`] elements, in one batch padded with stand-ins, [`LaneView::tail`]).
+/// there is one, in whole batches from the chunk's start and, where the last fewer than
+/// [`SIMD_WIDTH`] elements end a color group, in one batch padded with stand-ins,
+/// [`LaneView::tail`]; elsewhere the scalar kernel takes them).
 #[inline(always)]
 fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, Q: Positions<V> + ?Sized, const N: usize>(
     es: &[E],
@@ -526,13 +527,14 @@ fn plain_chunk<E: Element<N>, V: Vector, P: Positions<V> + ?Sized, Q: Positions<
             let mut declined = if n == SIMD_WIDTH {
                 let l = &mut ls[j..j + SIMD_WIDTH];
                 E::project_plain_wide(lanes.window(j), params, x, l, k.inv_h2, k.sor, ALL_LANES)
-            } else {
-                let tail = lanes.tail(j);
+            } else if let Some((window, active)) = lanes.tail(j) {
                 let mut l = [V::S::zero(); SIMD_WIDTH];
                 l[..n].copy_from_slice(&ls[j..]);
-                let declined = E::project_plain_wide(tail.window(), params, x, &mut l, k.inv_h2, k.sor, tail.active);
+                let declined = E::project_plain_wide(window, params, x, &mut l, k.inv_h2, k.sor, active);
                 ls[j..].copy_from_slice(&l[..n]);
                 declined
+            } else {
+                break;
             };
             while declined != 0 {
                 let l = declined.trailing_zeros() as usize;
