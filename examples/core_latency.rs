@@ -2,7 +2,7 @@
 //! forth through two cache lines, and the time of a round trip over two is the one-way latency (ns)
 //! that every meeting of the CPU team's threads pays at least once (`solver::cpu::plan`). On a
 //! virtual machine it changes with where the host puts the two virtual cores (this project's
-//! 2-core VM has shown 55 and 270 ns within an hour), so figures for two threads are quoted with
+//! 2-core VM has shown 27 to 440 ns within an hour), so figures for two threads are quoted with
 //! it (`docs/bench/compare_builds.sh`).
 //!
 //! `cargo run --release --example core_latency [round trips]` (default 1,000,000).
